@@ -1,0 +1,147 @@
+"""Frozen values that cross module boundaries in the perception core.
+
+Pixel coordinates are ``(x, y)`` with ``x`` to the right and ``y`` down. Unless a name says
+otherwise, pixel arrays are in RECTIFIED image coordinates (what triangulation needs); the
+pipeline maps them back to original pixels for output. 3D points are in the rectified left
+camera frame: x right, y down, z forward, metres.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+__all__ = ["JOINTS", "ArmKeypoints", "Candidates", "Arm3D", "ObjectCandidate", "Selection"]
+
+JOINTS = ("shoulder", "elbow", "wrist")
+"""Joint order used in every (3, ...) array."""
+
+
+@dataclass(frozen=True)
+class ArmKeypoints:
+    """The pointing arm's shoulder, elbow and wrist in both rectified images.
+
+    Attributes:
+        arm: "right" or "left".
+        left_px: (3, 2) float array, rows in JOINTS order, rectified left-image pixels.
+        right_px: (3, 2) float array, rectified right-image pixels.
+        left_conf: (3,) per-keypoint confidence in [0, 1] for the left image.
+        right_conf: (3,) per-keypoint confidence in [0, 1] for the right image.
+        source: which estimator produced them (e.g. "keypoints-file", "blazepose", "sim-truth").
+    """
+
+    arm: str
+    left_px: np.ndarray
+    right_px: np.ndarray
+    left_conf: np.ndarray
+    right_conf: np.ndarray
+    source: str = ""
+
+    def joint(self, name: str, side: str = "left") -> np.ndarray:
+        """Return one joint's (x, y) in the rectified ``side`` image, pixels."""
+        arr = self.left_px if side == "left" else self.right_px
+        return arr[JOINTS.index(name)]
+
+    def min_confidence(self) -> float:
+        """Return the lowest confidence over the three joints in both images."""
+        return float(min(self.left_conf.min(), self.right_conf.min()))
+
+
+@dataclass(frozen=True)
+class Candidates:
+    """Matched features across the pair: each row is one candidate point.
+
+    Attributes:
+        left_px: (N, 2) rectified left-image pixels.
+        right_px: (N, 2) rectified right-image pixels.
+        descriptors: (N, D) float32 descriptors of the left features (may be empty (N, 0)).
+        sizes_px: (N,) feature sizes (diameters) in pixels, or zeros.
+    """
+
+    left_px: np.ndarray
+    right_px: np.ndarray
+    descriptors: np.ndarray = field(default_factory=lambda: np.zeros((0, 0), np.float32))
+    sizes_px: np.ndarray = field(default_factory=lambda: np.zeros(0))
+
+    def __len__(self) -> int:
+        return int(self.left_px.shape[0])
+
+    @property
+    def disparity_px(self) -> np.ndarray:
+        """Return the disparities x_left - x_right, pixels."""
+        return self.left_px[:, 0] - self.right_px[:, 0]
+
+    def subset(self, keep: np.ndarray) -> "Candidates":
+        """Return the candidates selected by a boolean mask or index array."""
+        desc = self.descriptors[keep] if len(self.descriptors) == len(self) else self.descriptors
+        sizes = self.sizes_px[keep] if len(self.sizes_px) == len(self) else self.sizes_px
+        return Candidates(self.left_px[keep], self.right_px[keep], desc, sizes)
+
+    @staticmethod
+    def empty() -> "Candidates":
+        """Return a candidate set with no rows."""
+        return Candidates(np.zeros((0, 2)), np.zeros((0, 2)), np.zeros((0, 128), np.float32), np.zeros(0))
+
+
+@dataclass(frozen=True)
+class Arm3D:
+    """Triangulated joints (rectified left camera frame, metres) with their stereo depth sigma.
+
+    Attributes:
+        xyz_m: (3, 3) rows shoulder, elbow, wrist.
+        depth_sigma_m: (3,) one-sigma depth uncertainty of each joint, metres.
+    """
+
+    xyz_m: np.ndarray
+    depth_sigma_m: np.ndarray
+
+    def joint(self, name: str) -> np.ndarray:
+        """Return one joint's xyz in metres."""
+        return self.xyz_m[JOINTS.index(name)]
+
+
+@dataclass(frozen=True)
+class ObjectCandidate:
+    """One candidate object: a group of matched features and its robust 3D centre.
+
+    Attributes:
+        left_px: (2,) representative rectified left-image point, pixels.
+        xyz_m: (3,) robust centre in the rectified left camera frame, metres.
+        depth_sigma_m: one-sigma uncertainty of the centre's depth, metres.
+        members: indices of the candidate rows (in the filtered Candidates) that form it.
+    """
+
+    left_px: np.ndarray
+    xyz_m: np.ndarray
+    depth_sigma_m: float
+    members: tuple[int, ...]
+
+
+@dataclass(frozen=True)
+class Selection:
+    """What the selector chose and how sure it is.
+
+    Attributes:
+        index: index of the chosen object in ``objects`` (None if nothing was chosen).
+        objects: the scored objects (single features for the paper selector).
+        scores: (len(objects),) score per object; lower is better for ``paper`` (distance, m),
+            higher is better for ``default`` (posterior probability).
+        confidence: in [0, 1]; posterior of the chosen object (1.0 for ``paper``, which has none).
+        ambiguity_margin: best minus second-best in the selector's own units (inf if one object).
+        method: "paper" or "default".
+        ambiguous: True when the confidence is under the configured minimum.
+    """
+
+    index: int | None
+    objects: tuple[ObjectCandidate, ...]
+    scores: np.ndarray
+    confidence: float
+    ambiguity_margin: float
+    method: str
+    ambiguous: bool = False
+
+    @property
+    def target(self) -> ObjectCandidate | None:
+        """Return the chosen object, or None."""
+        return None if self.index is None else self.objects[self.index]
