@@ -93,6 +93,9 @@ class StereoRig:
             raise CalibrationError(f"{where}: R is not a rotation matrix (det {np.linalg.det(R):.4f})")
         if np.linalg.norm(T) <= 0:
             raise CalibrationError(f"{where}: T is zero: the two cameras cannot be at the same place")
+        if abs(T[1, 0]) > abs(T[0, 0]):
+            raise CalibrationError(f"{where}: T = {T.ravel().tolist()} is mostly vertical; only side-by-side "
+                                   f"(horizontal) stereo is supported")
         w, h = _size(image_size, where)
         R1, R2, P1, P2, Q, _, _ = cv2.stereoRectify(K1, D1, K2, D2, (w, h), R, T, alpha=alpha,
                                                     flags=cv2.CALIB_ZERO_DISPARITY)
