@@ -1,0 +1,140 @@
+"""VelocityCommand -> MAVLink setpoints: MANUAL_CONTROL sticks and GUIDED body-frame velocity.
+
+Pure functions. The stick mapping inverts the speeds measured on a real ArduSub 4.5 SITL
+(``reference/ardusub_sitl_response.md``, ALT_HOLD, default joystick gain 0.5) by piecewise-linear
+interpolation through the measured points, with (0 m/s -> 0) added and the tables mirrored for
+negative speeds (the SITL measured positive steps only; the vectored frame is symmetric). Speeds
+beyond the largest measured one are clamped to full stick.
+
+Between 0 and the first measured point the mapping is an interpolation, not a measurement; ArduSub's
+throttle dead zone (THR_DZ) may swallow very small vertical commands.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..servo.command import VelocityCommand
+
+__all__ = [
+    "ManualControl", "GuidedVelocity", "NEUTRAL_STICKS", "ZERO_GUIDED",
+    "SURGE_TABLE", "SWAY_TABLE", "YAW_TABLE", "HEAVE_TABLE",
+    "manual_control_from_velocity", "guided_from_velocity",
+    "MAV_FRAME_BODY_NED", "TYPE_MASK_VELOCITY_YAW_RATE",
+]
+
+# (speed, stick) pairs measured in ALT_HOLD; stick x/y/r in -1000..1000.
+SURGE_TABLE: tuple[tuple[float, float], ...] = ((0.0, 0.0), (0.258, 250.0), (0.516, 500.0), (1.032, 1000.0))
+"""Forward x: true body speed m/s -> MANUAL_CONTROL.x."""
+SWAY_TABLE: tuple[tuple[float, float], ...] = ((0.0, 0.0), (0.455, 500.0), (0.911, 1000.0))
+"""Lateral y: true body speed m/s (right positive) -> MANUAL_CONTROL.y."""
+YAW_TABLE: tuple[tuple[float, float], ...] = ((0.0, 0.0), (0.214, 250.0), (0.593, 500.0), (1.319, 1000.0))
+"""Yaw r: yaw rate rad/s (clockwise from above positive) -> MANUAL_CONTROL.r."""
+HEAVE_TABLE: tuple[tuple[float, float], ...] = (
+    (-0.90, 1000.0), (-0.36, 750.0), (0.0, 500.0), (0.36, 250.0), (0.97, 0.0))
+"""Vertical z: downward speed m/s (negative = rise) -> MANUAL_CONTROL.z (0..1000, 500 neutral)."""
+
+MAV_FRAME_BODY_NED = 8
+"""Velocity frame used in GUIDED: x forward / y right rotated by yaw only, z down (as measured)."""
+TYPE_MASK_VELOCITY_YAW_RATE = 1479
+"""POSITION_TARGET_TYPEMASK: ignore position (1|2|4), acceleration (64|128|256) and yaw (1024);
+use vx, vy, vz and yaw_rate."""
+
+
+@dataclass(frozen=True)
+class ManualControl:
+    """MANUAL_CONTROL axes: x forward, y right, r yaw in -1000..1000; z 0..1000 with 500 neutral.
+
+    ``buttons`` is always 0: ArduSub maps joystick buttons to actions (arm, disarm, mode changes).
+    """
+
+    x: int = 0
+    y: int = 0
+    z: int = 500
+    r: int = 0
+    buttons: int = 0
+
+    def is_neutral(self) -> bool:
+        """Return True for centred sticks (x = y = r = 0, z = 500)."""
+        return self.x == 0 and self.y == 0 and self.r == 0 and self.z == 500
+
+
+@dataclass(frozen=True)
+class GuidedVelocity:
+    """SET_POSITION_TARGET_LOCAL_NED content: body-frame velocity m/s and yaw rate rad/s."""
+
+    vx_m_s: float = 0.0
+    vy_m_s: float = 0.0
+    vz_m_s: float = 0.0
+    yaw_rate_rad_s: float = 0.0
+    frame: int = MAV_FRAME_BODY_NED
+    type_mask: int = TYPE_MASK_VELOCITY_YAW_RATE
+
+    def is_zero(self) -> bool:
+        """Return True when velocity and yaw rate are all zero (an explicit stop)."""
+        return self.vx_m_s == 0.0 and self.vy_m_s == 0.0 and self.vz_m_s == 0.0 and self.yaw_rate_rad_s == 0.0
+
+
+NEUTRAL_STICKS = ManualControl()
+"""Centred sticks: what manual_control sends whenever it stops commanding motion."""
+ZERO_GUIDED = GuidedVelocity()
+"""Zero velocity AND zero yaw rate: ArduSub keeps the last GUIDED yaw rate forever otherwise."""
+
+
+def _symmetric_interp(value: float, table: tuple[tuple[float, float], ...]) -> float:
+    """Interpolate |value| through a (speed, stick) table from 0 and restore the sign; clamp at the end."""
+    speeds = np.array([p[0] for p in table])
+    sticks = np.array([p[1] for p in table])
+    out = float(np.interp(abs(value), speeds, sticks))
+    return out if value >= 0 else -out
+
+
+def _finite(value: float) -> float:
+    """Return ``value``, or 0.0 when it is NaN or infinite (a broken command must not move the vehicle)."""
+    return float(value) if np.isfinite(value) else 0.0
+
+
+def manual_control_from_velocity(cmd: VelocityCommand) -> ManualControl:
+    """Map a body-frame velocity command to MANUAL_CONTROL sticks through the measured responses.
+
+    Args:
+        cmd: the servo's velocity command (surge/sway/heave m/s, yaw rate rad/s).
+
+    Returns:
+        Sticks clamped to x, y, r in -1000..1000 and z in 0..1000 (500 neutral); a non-finite axis
+        gives that axis' neutral. An all-zero command gives exactly ``NEUTRAL_STICKS``.
+
+    Examples:
+        >>> manual_control_from_velocity(VelocityCommand(surge_m_s=0.516))
+        ManualControl(x=500, y=0, z=500, r=0, buttons=0)
+    """
+    x = _symmetric_interp(_finite(cmd.surge_m_s), SURGE_TABLE)
+    y = _symmetric_interp(_finite(cmd.sway_m_s), SWAY_TABLE)
+    r = _symmetric_interp(_finite(cmd.yaw_rate_rad_s), YAW_TABLE)
+    heave = _finite(cmd.heave_m_s)
+    z = float(np.interp(heave, [p[0] for p in HEAVE_TABLE], [p[1] for p in HEAVE_TABLE]))
+    clamp = lambda v, lo, hi: int(round(min(max(v, lo), hi)))  # noqa: E731
+    return ManualControl(x=clamp(x, -1000, 1000), y=clamp(y, -1000, 1000),
+                         z=clamp(z, 0, 1000), r=clamp(r, -1000, 1000))
+
+
+def guided_from_velocity(cmd: VelocityCommand, max_speed_m_s: float = 2.0,
+                         max_yaw_rate_rad_s: float = 1.5) -> GuidedVelocity:
+    """Map a velocity command to a GUIDED BODY_NED velocity + yaw-rate setpoint.
+
+    BODY_NED rotates x/y by the vehicle's yaw only and keeps z down, so heave is a plain down speed.
+
+    Args:
+        cmd: the servo's velocity command.
+        max_speed_m_s: clamp for each linear axis, m/s.
+        max_yaw_rate_rad_s: clamp for the yaw rate, rad/s.
+
+    Returns:
+        The setpoint with frame 8 and type_mask 1479; a non-finite axis becomes 0.
+    """
+    lim = lambda v, m: min(max(_finite(v), -m), m)  # noqa: E731
+    return GuidedVelocity(vx_m_s=lim(cmd.surge_m_s, max_speed_m_s), vy_m_s=lim(cmd.sway_m_s, max_speed_m_s),
+                          vz_m_s=lim(cmd.heave_m_s, max_speed_m_s),
+                          yaw_rate_rad_s=lim(cmd.yaw_rate_rad_s, max_yaw_rate_rad_s))

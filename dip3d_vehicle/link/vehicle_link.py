@@ -1,0 +1,650 @@
+"""The controller's MAVLink link to an ArduSub autopilot: single-threaded, tick-driven.
+
+The mission loop calls, at any rate it likes::
+
+    link = VehicleLink(params, clock); link.open()
+    while running:
+        link.poll()                                   # drain incoming, update state
+        link.tick(command, perception_fresh=...)      # gate, then send at the configured rates
+    link.close()                                      # neutral / zero, then close
+
+Timing comes only from the injected Clock, so a simulator can run it faster than real time.
+
+Identity: our own HEARTBEAT (1 Hz) from ``link.system_id`` / ``link.component_id`` (191, onboard
+computer), type ONBOARD_CONTROLLER, autopilot INVALID. In ``manual_control`` mode, and only
+there, MANUAL_CONTROL goes out with the autopilot's SYSID_MYGCS as system id, because ArduSub drops
+pilot input from any other system; nothing else is ever sent with that id (see ``open()``'s
+warning).
+
+Liveness: ArduSub's HEARTBEAT is 1 Hz, too slow for "stop within 1 s of losing the autopilot".
+The link asks for ATTITUDE at ``link.rate.attitude_hz`` (10 Hz) with SET_MESSAGE_INTERVAL and
+counts ANY message from the configured autopilot as a sign of life; the autopilot is lost after
+``link.autopilot_timeout_s`` (0.6 s) of silence. With a tick period T the last motion command then
+goes out at most 0.6 s + T after the last message heard. The controller engages only after the
+autopilot has been heard for 1 s without such a gap, so an autopilot that sends nothing but its
+1 Hz HEARTBEAT (interval request refused or overridden) never gets motion commands at all.
+
+Stopping: on every disengage the link streams the stop value (manual_control: centred sticks,
+x = y = r = 0, z = 500; guided_velocity: zero velocity AND zero yaw rate, since ArduSub keeps a
+GUIDED yaw rate forever) at the setpoint rate for ``link.stop_zero_s`` (1 s), the first one on
+the same tick, then falls silent. Neutral sticks are needed because ArduSub keeps the last
+MANUAL_CONTROL for 3 s after the stream stops; silence afterwards hands the sticks back to the
+pilot's own joystick (which also sends MANUAL_CONTROL from SYSID_MYGCS and would otherwise fight
+ours) and lets the autopilot's own failsafes act. The link never sends a non-neutral command while
+disengaged. See ``engage.py`` for when it engages and the re-engage (enable latch) policy.
+"""
+
+from __future__ import annotations
+
+import logging
+from collections import deque
+from dataclasses import dataclass, replace
+from typing import Any, Mapping
+
+from pymavlink import mavutil
+
+from ..clock import Clock
+from ..errors import LinkError
+from ..servo.command import VelocityCommand
+from .connection import gcs_encoder, mavlink2, open_connection, url_kind
+from .engage import EngageInputs, decide
+from .setpoints import (NEUTRAL_STICKS, ZERO_GUIDED, GuidedVelocity, ManualControl,
+                        guided_from_velocity, manual_control_from_velocity)
+from .signing import load_key
+from .state import AutopilotState, GcsState, LinkStats, mode_name
+
+__all__ = ["LinkConfig", "VehicleLink", "MAV_CMD_USER_1", "ENGAGE_MODE_AUTO"]
+
+log = logging.getLogger("dip3d_vehicle.link")
+
+MAV_CMD_USER_1 = 31010
+"""COMMAND_LONG the operator sends to (link.system_id, link.component_id): param1 1 enable, 0 disable."""
+ENGAGE_MODE_AUTO = {"manual_control": "ALT_HOLD", "guided_velocity": "GUIDED"}
+"""The engage mode used when ``link.engage_mode`` is ``auto``."""
+_GCS_SYSID_PARAMS = ("SYSID_MYGCS", "MAV_GCS_SYSID")  # ArduSub <= 4.6, and 4.7+
+_STOP_REPEAT_ON_CLOSE = 3
+_MAX_MESSAGES_PER_POLL = 2000
+_INTERVAL_TRIES = 3
+_STEADY_S = 1.0  # engage only after the autopilot was heard without a gap for this long
+
+
+@dataclass(frozen=True)
+class LinkConfig:
+    """The ``link.*`` parameters (see params/schema/link.yaml), resolved."""
+
+    url: str
+    baud: int
+    output_mode: str
+    engage_mode: str
+    system_id: int
+    component_id: int
+    target_system: int
+    target_component: int
+    gcs_system_id: int
+    setpoint_rate_hz: float
+    heartbeat_rate_hz: float
+    autopilot_timeout_s: float
+    gcs_timeout_s: float
+    require_gcs: bool
+    perception_timeout_s: float
+    auto_enable: bool
+    stop_zero_s: float
+    param_retry_s: float
+    param_give_up_s: float
+    reconnect_s: float
+    signing_key_file: str
+    rates_hz: tuple[tuple[str, float], ...]
+
+    @classmethod
+    def from_params(cls, params: Mapping[str, Any]) -> "LinkConfig":
+        """Build from a Params (or any mapping of ``link.*`` keys; missing keys take the schema default).
+
+        Raises:
+            LinkError: the combination does not fit (e.g. guided_velocity with engage_mode ALT_HOLD).
+        """
+        from ..config import schema
+
+        defaults = {k: p.default for k, p in schema().items() if k.startswith("link.")}
+        get = lambda key: params[key] if key in params else defaults[key]  # noqa: E731
+        output_mode = get("link.output_mode")
+        engage_mode = get("link.engage_mode")
+        if engage_mode == "auto":
+            engage_mode = ENGAGE_MODE_AUTO[output_mode]
+        if output_mode == "guided_velocity" and engage_mode != "GUIDED":
+            raise LinkError(f"link.engage_mode = {engage_mode}: guided_velocity needs GUIDED "
+                            f"(ArduSub ignores SET_POSITION_TARGET_LOCAL_NED in other modes)")
+        if output_mode == "manual_control" and engage_mode == "GUIDED":
+            raise LinkError("link.engage_mode = GUIDED: manual_control needs ALT_HOLD or STABILIZE "
+                            "(use link.output_mode guided_velocity for GUIDED)")
+        rates = [("ATTITUDE", get("link.rate.attitude_hz")),
+                 ("GLOBAL_POSITION_INT", get("link.rate.global_position_int_hz")),
+                 ("VFR_HUD", get("link.rate.vfr_hud_hz")),
+                 ("SYS_STATUS", get("link.rate.sys_status_hz"))]
+        if output_mode == "guided_velocity":
+            rates.append(("LOCAL_POSITION_NED", get("link.rate.local_position_ned_hz")))
+        names = ("url", "baud", "system_id", "component_id", "target_system", "target_component",
+                 "gcs_system_id", "setpoint_rate_hz", "heartbeat_rate_hz", "autopilot_timeout_s",
+                 "gcs_timeout_s", "require_gcs", "perception_timeout_s", "auto_enable", "stop_zero_s",
+                 "param_retry_s", "param_give_up_s", "reconnect_s", "signing_key_file")
+        return cls(output_mode=output_mode, engage_mode=engage_mode,
+                   rates_hz=tuple((n, float(r)) for n, r in rates if r > 0),
+                   **{n: get(f"link.{n}") for n in names})
+
+
+class VehicleLink:
+    """MAVLink link to the autopilot: state tracking, engage gating and fixed-rate streaming.
+
+    Args:
+        params: a Params (or mapping of ``link.*`` keys; missing keys take the schema default).
+        clock: the time source for every timeout and rate (WallClock onboard, SimClock in simulation).
+
+    Attributes:
+        config: the resolved LinkConfig.
+        autopilot: the configured autopilot as last heard.
+        gcs: the ground station as last heard.
+        stats: counters (ignored, rejected, sent by type).
+        events: the story of the run, e.g. "t=12.30 disengaged: mode changed ALT_HOLD -> MANUAL".
+        disengage_reason: why the controller last disengaged ("" before the first disengage).
+        not_engaged_reason: why it is not engaged now ("" when engaged).
+    """
+
+    def __init__(self, params: Mapping[str, Any] | LinkConfig, clock: Clock) -> None:
+        self.config = params if isinstance(params, LinkConfig) else LinkConfig.from_params(params)
+        self.clock = clock
+        c = self.config
+        self.autopilot = AutopilotState(sysid=c.target_system, compid=c.target_component)
+        self.gcs = GcsState(sysid=c.gcs_system_id)
+        self.stats = LinkStats()
+        self.events: list[str] = []
+        self.disengage_reason = ""
+        self.not_engaged_reason = "not opened"
+        self._conn: Any = None
+        self._gcs_mav: Any = None
+        self._key: bytes | None = None
+        self._enabled = False
+        self._engaged = False
+        self._prev_inputs: EngageInputs | None = None
+        self._stop_until_s: float | None = None
+        self._next_setpoint_s = 0.0
+        self._next_heartbeat_s = 0.0
+        self._param_first_s: float | None = None
+        self._param_last_s: float | None = None
+        self._param_given_up = False
+        self._intervals_pending: deque[list] = deque()
+        self._sent_setpoints = False
+        self._tcp_dead_since: float | None = None
+        self._last_unsigned_calls = 0
+        self._bad_sig_base = 0
+
+    # ------------------------------------------------------------------ lifecycle
+
+    @property
+    def engaged(self) -> bool:
+        """True while the controller's commands are being sent to the thrusters."""
+        return self._engaged
+
+    @property
+    def operator_enabled(self) -> bool:
+        """The operator's enable latch (cleared by the pilot taking the vehicle back, or a loss)."""
+        return self._enabled
+
+    def open(self) -> None:
+        """Connect by ``link.url``, set up signing, announce ourselves; non-blocking.
+
+        The autopilot is asked for SYSID_MYGCS and its message intervals as soon as it is heard
+        (a ``udpin:`` link cannot send before a peer has spoken), and again whenever it reappears
+        or reboots.
+
+        Raises:
+            LinkError: the URL is malformed or cannot be opened, or the signing key file is bad.
+        """
+        c = self.config
+        if c.signing_key_file:
+            self._key = load_key(c.signing_key_file)
+        self._conn = open_connection(c.url, c.system_id, c.component_id, c.baud)
+        if url_kind(c.url) == "tcp":
+            self._watch_tcp_eof(self._conn)
+        self._setup_signing(self._conn)
+        now = self.clock.now()
+        self._next_heartbeat_s = now + 1.0 / c.heartbeat_rate_hz
+        self._next_setpoint_s = now
+        self._enabled = c.auto_enable
+        self.not_engaged_reason = "autopilot not heard"
+        self._event(f"opened {c.url} as system {c.system_id} component {c.component_id}, output "
+                    f"{c.output_mode} in {c.engage_mode}, signing {'on' if self._key else 'off'}"
+                    + (", enabled at start (link.auto_enable)" if c.auto_enable else ""))
+        if c.output_mode == "manual_control":
+            self._warn(
+                "manual_control: MANUAL_CONTROL will be sent with the ground station's system id "
+                f"(the autopilot's SYSID_MYGCS; {c.gcs_system_id} until it has been read), because ArduSub "
+                "drops pilot input from any other system. ArduSub counts it as ground-station contact, so "
+                "this controller watches the ground station's HEARTBEAT itself and stops sending "
+                f"MANUAL_CONTROL within {c.gcs_timeout_s + c.stop_zero_s:g} s of losing it, leaving the "
+                "autopilot's GCS failsafe to act. Nothing else (no HEARTBEAT) is ever sent with that id; "
+                f"this controller's own id is {c.system_id}/{c.component_id}.")
+        self._send_heartbeat()
+
+    def close(self) -> None:
+        """Send the stop value (neutral sticks / zero velocity and yaw rate) a few times, then close."""
+        if self._conn is None:
+            return
+        if self._engaged or self._stop_until_s is not None or self._sent_setpoints:
+            for _ in range(_STOP_REPEAT_ON_CLOSE):
+                self._send_stop()
+        if self._engaged:
+            self._set_engaged(False, "link closed")
+        self._event("closed")
+        try:
+            self._conn.close()
+        except OSError:
+            pass
+        self._conn = None
+
+    # ------------------------------------------------------------------ operator
+
+    def enable(self, source: str = "operator") -> None:
+        """Give the operator's enable (the controller engages when every other condition holds)."""
+        if not self._enabled:
+            self._event(f"enabled by {source}")
+        self._enabled = True
+
+    def disable(self, source: str = "operator") -> None:
+        """Withdraw the operator's enable; the controller disengages on the next tick."""
+        if self._enabled:
+            self._event(f"disabled by {source}")
+        self._enabled = False
+
+    # ------------------------------------------------------------------ incoming
+
+    def poll(self) -> int:
+        """Drain every waiting message without blocking and update the state.
+
+        Returns:
+            The number of messages accepted from the wire.
+        """
+        if self._conn is None:
+            return 0
+        now = self.clock.now()
+        count = 0
+        for _ in range(_MAX_MESSAGES_PER_POLL):
+            try:
+                msg = self._conn.recv_msg()
+            except (OSError, ValueError) as exc:
+                self._event(f"receive error on {self.config.url}: {exc}")
+                break
+            if msg is None:
+                break
+            if self._handle(msg, now):
+                count += 1
+        self._update_signing_counts()
+        return count
+
+    def _handle(self, msg: Any, now: float) -> bool:
+        """Dispatch one received message; return True when it was accepted."""
+        kind = msg.get_type()
+        if kind == "BAD_DATA":
+            if "signature" not in str(getattr(msg, "reason", "")).lower():
+                self.stats.bad_data += 1
+            return False
+        self.stats.received += 1
+        src = (msg.get_srcSystem(), msg.get_srcComponent())
+        from_autopilot = src == (self.autopilot.sysid, self.autopilot.compid)
+        if kind == "COMMAND_LONG" and msg.target_system == self.config.system_id \
+                and msg.target_component == self.config.component_id:
+            self._on_command(msg, src)
+        if from_autopilot:
+            self._on_autopilot_message(msg, kind, now)
+        elif kind == "HEARTBEAT" and src[0] == self.gcs.sysid and msg.type == mavutil.mavlink.MAV_TYPE_GCS:
+            self.gcs = replace(self.gcs, last_heartbeat_s=now)
+        elif kind == "COMMAND_LONG":
+            pass
+        elif kind == "HEARTBEAT":
+            self.stats.ignored_heartbeats += 1
+        elif src[0] != self.gcs.sysid:
+            self.stats.ignored_from_others += 1
+        return True
+
+    def _on_autopilot_message(self, msg: Any, kind: str, now: float) -> None:
+        """Update liveness and state from a message of the configured autopilot."""
+        ap = self.autopilot
+        gap = None if ap.last_message_s is None else now - ap.last_message_s
+        rebooted = False
+        boot_ms = getattr(msg, "time_boot_ms", None)
+        if boot_ms is not None:
+            rebooted = ap.time_boot_ms is not None and boot_ms + 1000 < ap.time_boot_ms
+            ap = replace(ap, time_boot_ms=int(boot_ms))
+        restarted = gap is None or rebooted or gap > self.config.autopilot_timeout_s
+        self.autopilot = replace(ap, last_message_s=now, heard_since_s=now if restarted else ap.heard_since_s)
+        if gap is None:
+            self._on_autopilot_appeared("autopilot first heard")
+        elif rebooted:
+            self._on_autopilot_appeared(f"autopilot rebooted (time_boot_ms went back to {boot_ms})")
+        elif gap > self.config.autopilot_timeout_s:
+            self._on_autopilot_appeared(f"autopilot heard again after {gap:.2f} s")
+        if kind == "HEARTBEAT":
+            self._on_autopilot_heartbeat(msg, now)
+        elif kind == "PARAM_VALUE":
+            self._on_param_value(msg)
+        elif kind == "COMMAND_ACK" and msg.command == mavutil.mavlink.MAV_CMD_SET_MESSAGE_INTERVAL:
+            self._on_interval_ack(msg)
+
+    def _on_autopilot_heartbeat(self, msg: Any, now: float) -> None:
+        """Take mode, armed state and status from the autopilot's HEARTBEAT."""
+        ap = self.autopilot
+        armed = bool(msg.base_mode & mavutil.mavlink.MAV_MODE_FLAG_SAFETY_ARMED)
+        mode = mode_name(msg.custom_mode)
+        if ap.last_heartbeat_s is not None and mode != ap.mode:
+            self._event(f"autopilot mode {ap.mode} -> {mode}")
+        if ap.last_heartbeat_s is None or armed != ap.armed:
+            self._event(f"autopilot {'armed' if armed else 'disarmed'} in {mode}")
+        self.autopilot = replace(ap, last_heartbeat_s=now, mode_number=int(msg.custom_mode), mode=mode,
+                                 armed=armed, system_status=int(msg.system_status))
+
+    def _on_autopilot_appeared(self, why: str) -> None:
+        """(Re)request message intervals and SYSID_MYGCS after first contact, a gap or a reboot."""
+        self.autopilot = replace(self.autopilot, boots=self.autopilot.boots + 1)
+        self._event(why + ": requesting message intervals and SYSID_MYGCS")
+        now = self.clock.now()
+        self._intervals_pending.clear()
+        for name, hz in self.config.rates_hz:
+            self._intervals_pending.append([name, hz, now, 1])
+            self._send_interval(name, hz)
+        self._param_first_s = now
+        self._param_given_up = False
+        self._request_gcs_sysid(now)
+
+    def _on_param_value(self, msg: Any) -> None:
+        """Take the ground station's system id from SYSID_MYGCS / MAV_GCS_SYSID."""
+        name = msg.param_id.rstrip("\x00") if isinstance(msg.param_id, str) else msg.param_id
+        if name not in _GCS_SYSID_PARAMS:
+            return
+        value = int(round(msg.param_value))
+        first = not self.gcs.sysid_from_autopilot
+        if value != self.gcs.sysid or first:
+            self._event(f"{name} = {value} read from the autopilot (ground station system id)")
+        if value != self.gcs.sysid and self._gcs_mav is not None:
+            self._gcs_mav = None
+        self.gcs = replace(self.gcs, sysid=value, sysid_from_autopilot=True)
+        self._param_first_s = None
+        if value == self.config.system_id and self.config.output_mode == "manual_control":
+            self._warn(f"{name} = {value} is this controller's own system id (link.system_id): MANUAL_CONTROL "
+                       f"would have to come from it and ArduSub would take our HEARTBEAT for the ground "
+                       f"station's, hiding a lost ground station; manual_control refuses to engage. Give the "
+                       f"controller another link.system_id or use guided_velocity.")
+
+    def _on_interval_ack(self, msg: Any) -> None:
+        """Match a SET_MESSAGE_INTERVAL acknowledgement to the oldest pending request."""
+        if not self._intervals_pending:
+            return
+        name, hz, _, _ = self._intervals_pending.popleft()
+        if msg.result != mavutil.mavlink.MAV_RESULT_ACCEPTED:
+            self._event(f"SET_MESSAGE_INTERVAL {name} {hz:g} Hz refused by the autopilot (result {msg.result})")
+
+    def _on_command(self, msg: Any, src: tuple[int, int]) -> None:
+        """Handle a COMMAND_LONG addressed to us: MAV_CMD_USER_1 enables/disables (GCS only)."""
+        if msg.command != MAV_CMD_USER_1:
+            self._send_ack(msg.command, mavutil.mavlink.MAV_RESULT_UNSUPPORTED, src)
+            return
+        if src[0] != self.gcs.sysid:
+            self.stats.operator_commands_denied += 1
+            self._event(f"operator command from system {src[0]} denied (only the ground station "
+                        f"{self.gcs.sysid} may enable)")
+            self._send_ack(msg.command, mavutil.mavlink.MAV_RESULT_DENIED, src)
+            return
+        if msg.param1 >= 0.5:
+            self.enable(f"ground station {src[0]}/{src[1]}")
+        else:
+            self.disable(f"ground station {src[0]}/{src[1]}")
+        self._send_ack(msg.command, mavutil.mavlink.MAV_RESULT_ACCEPTED, src)
+
+    # ------------------------------------------------------------------ tick
+
+    def tick(self, command: VelocityCommand | None, perception_fresh: bool,
+             perception_stamp_s: float | None = None) -> bool:
+        """Gate, then send whatever is due at the configured rates. Call poll() first.
+
+        At most one setpoint goes out per call, so call this at least at ``link.setpoint_rate_hz``
+        (e.g. 50 Hz) even when perception is slower: pass the servo's latest command each time.
+
+        Args:
+            command: the servo's command, or None for "no motion wanted" (neutral).
+            perception_fresh: the caller's own verdict on perception.
+            perception_stamp_s: the time (this link's clock) of the perception result behind
+                ``command``; when given it is also stale after ``link.perception_timeout_s``.
+
+        Returns:
+            True when engaged after this tick.
+        """
+        if self._conn is None:
+            return False
+        now = self.clock.now()
+        self._maybe_reconnect_tcp(now)
+        fresh = perception_fresh and (perception_stamp_s is None
+                                      or now - perception_stamp_s <= self.config.perception_timeout_s)
+        inputs = self._inputs(now, fresh)
+        decision = decide(self._prev_inputs, inputs)
+        self._prev_inputs = inputs
+        if decision.latched and self._enabled:
+            self._event(f"operator enable cleared: {decision.reason}")
+        self._enabled = decision.operator_enabled
+        self.not_engaged_reason = decision.reason
+        if decision.engaged != self._engaged:
+            self._set_engaged(decision.engaged, decision.reason)
+            self._next_setpoint_s = now  # act on this tick: first command, or first stop
+        if now >= self._next_heartbeat_s:
+            self._send_heartbeat()
+            self._next_heartbeat_s = _next_time(self._next_heartbeat_s, 1.0 / self.config.heartbeat_rate_hz, now)
+        if now >= self._next_setpoint_s:
+            self._send_setpoint(now, command)
+            self._next_setpoint_s = _next_time(self._next_setpoint_s, 1.0 / self.config.setpoint_rate_hz, now)
+        self._retry_requests(now)
+        return self._engaged
+
+    def _inputs(self, now: float, perception_fresh: bool) -> EngageInputs:
+        """Collect this tick's gate inputs."""
+        c = self.config
+        return EngageInputs(
+            autopilot_alive=self.autopilot.alive(now, c.autopilot_timeout_s), armed=self.autopilot.armed,
+            mode=self.autopilot.mode, engage_mode=c.engage_mode, operator_enabled=self._enabled,
+            gcs_alive=self.gcs.alive(now, c.gcs_timeout_s), gcs_required=c.require_gcs,
+            perception_fresh=perception_fresh, output_problem=self.output_problem(),
+            autopilot_steady=self.autopilot.steady(now, c.autopilot_timeout_s, _STEADY_S))
+
+    def output_problem(self) -> str:
+        """Return why the output path cannot be used now ("" when it can)."""
+        if self.config.output_mode != "manual_control":
+            return ""
+        if not self.gcs.sysid_from_autopilot:
+            if self._param_given_up:
+                return ("SYSID_MYGCS could not be read from the autopilot; ArduSub accepts MANUAL_CONTROL "
+                        "only from that system id")
+            return "SYSID_MYGCS not read yet"
+        if self.gcs.sysid == self.config.system_id:
+            return (f"SYSID_MYGCS = {self.gcs.sysid} is this controller's own system id; manual_control "
+                    f"would hide a lost ground station")
+        return ""
+
+    def _set_engaged(self, engaged: bool, reason: str) -> None:
+        """Record an engage/disengage transition and start the stop stream on disengage."""
+        self._engaged = engaged
+        now = self.clock.now()
+        if engaged:
+            self._stop_until_s = None
+            self._event(f"engaged in {self.autopilot.mode} ({self.config.output_mode})")
+        else:
+            self.disengage_reason = reason
+            self._stop_until_s = now + self.config.stop_zero_s
+            self._event(f"disengaged: {reason}")
+
+    def _send_setpoint(self, now: float, command: VelocityCommand | None) -> None:
+        """Send the command while engaged, the stop value during the stop window, else nothing."""
+        if self._engaged:
+            cmd = command if command is not None else VelocityCommand()
+            if self.config.output_mode == "manual_control":
+                self._send_manual_control(manual_control_from_velocity(cmd))
+            else:
+                self._send_guided(guided_from_velocity(cmd))
+        elif self._stop_until_s is not None:
+            if now <= self._stop_until_s:
+                self._send_stop()
+            else:
+                self._stop_until_s = None
+
+    def _send_stop(self) -> None:
+        """Send one stop value: centred sticks (manual_control) or zero velocity + yaw rate (guided)."""
+        if self.config.output_mode == "manual_control":
+            if self.output_problem() == "" or self._sent_setpoints:
+                self._send_manual_control(NEUTRAL_STICKS)
+        else:
+            self._send_guided(ZERO_GUIDED)
+
+    # ------------------------------------------------------------------ sending
+
+    def _send(self, name: str, msg: Any, encoder: Any = None) -> None:
+        """Send one message with our identity (or ``encoder``'s), counting it; never raises on I/O."""
+        if self._conn is None:
+            return
+        try:
+            (encoder or self._conn.mav).send(msg)
+        except OSError as exc:
+            self._event(f"send error on {self.config.url}: {exc}")
+            return
+        self.stats.count_sent(name)
+
+    def _send_heartbeat(self) -> None:
+        """Our own HEARTBEAT: onboard controller, no autopilot, active while engaged."""
+        m = mavutil.mavlink
+        status = m.MAV_STATE_ACTIVE if self._engaged else m.MAV_STATE_STANDBY
+        self._send("HEARTBEAT", mavlink2.MAVLink_heartbeat_message(
+            m.MAV_TYPE_ONBOARD_CONTROLLER, m.MAV_AUTOPILOT_INVALID, 0, 0, status, 3))
+
+    def _send_manual_control(self, sticks: ManualControl) -> None:
+        """MANUAL_CONTROL with the ground station's system id (ArduSub's rule); buttons always 0."""
+        if self._gcs_mav is None or self._gcs_mav.srcSystem != self.gcs.sysid:
+            self._gcs_mav = gcs_encoder(self._conn, self.gcs.sysid, self.config.component_id)
+        self._sent_setpoints = True
+        self._send("MANUAL_CONTROL", mavlink2.MAVLink_manual_control_message(
+            self.config.target_system, sticks.x, sticks.y, sticks.z, sticks.r, 0), self._gcs_mav)
+
+    def _send_guided(self, sp: GuidedVelocity) -> None:
+        """SET_POSITION_TARGET_LOCAL_NED: body-frame velocity + yaw rate."""
+        c = self.config
+        self._sent_setpoints = True
+        self._send("SET_POSITION_TARGET_LOCAL_NED", mavlink2.MAVLink_set_position_target_local_ned_message(
+            int(self.clock.now() * 1000) & 0xFFFFFFFF, c.target_system, c.target_component, sp.frame,
+            sp.type_mask, 0.0, 0.0, 0.0, sp.vx_m_s, sp.vy_m_s, sp.vz_m_s, 0.0, 0.0, 0.0, 0.0,
+            sp.yaw_rate_rad_s))
+
+    def _send_interval(self, name: str, hz: float) -> None:
+        """MAV_CMD_SET_MESSAGE_INTERVAL for message ``name`` at ``hz``."""
+        c, m = self.config, mavutil.mavlink
+        msg_id = getattr(m, f"MAVLINK_MSG_ID_{name}")
+        self._send("COMMAND_LONG", mavlink2.MAVLink_command_long_message(
+            c.target_system, c.target_component, m.MAV_CMD_SET_MESSAGE_INTERVAL, 0,
+            float(msg_id), 1e6 / hz, 0, 0, 0, 0, 0))
+
+    def _request_gcs_sysid(self, now: float) -> None:
+        """PARAM_REQUEST_READ for SYSID_MYGCS (and MAV_GCS_SYSID, its 4.7+ name)."""
+        c = self.config
+        for name in _GCS_SYSID_PARAMS:
+            self._send("PARAM_REQUEST_READ", mavlink2.MAVLink_param_request_read_message(
+                c.target_system, c.target_component, name.encode(), -1))
+        self._param_last_s = now
+
+    def _send_ack(self, command: int, result: int, dest: tuple[int, int]) -> None:
+        """COMMAND_ACK from our own identity to ``dest``."""
+        self._send("COMMAND_ACK", mavlink2.MAVLink_command_ack_message(command, result, 0, 0, dest[0], dest[1]))
+
+    def _retry_requests(self, now: float) -> None:
+        """Re-send an unanswered SYSID_MYGCS read / SET_MESSAGE_INTERVAL; give up after a while."""
+        c = self.config
+        if self._param_first_s is not None and not self.gcs.sysid_from_autopilot:
+            if now - self._param_first_s > c.param_give_up_s and not self._param_given_up:
+                self._param_given_up = True
+                if c.output_mode == "manual_control":
+                    self._warn(f"SYSID_MYGCS could not be read from the autopilot in {c.param_give_up_s:g} s: "
+                               f"ArduSub accepts MANUAL_CONTROL only from that system id, so manual_control "
+                               f"will not engage (still asking)")
+            if self._param_last_s is not None and now - self._param_last_s >= c.param_retry_s:
+                self._request_gcs_sysid(now)
+        for item in list(self._intervals_pending):
+            name, hz, sent_s, tries = item
+            if now - sent_s >= c.param_retry_s:
+                if tries >= _INTERVAL_TRIES:
+                    self._intervals_pending.remove(item)
+                    self._event(f"SET_MESSAGE_INTERVAL {name} not acknowledged after {tries} tries")
+                else:
+                    item[2], item[3] = now, tries + 1
+                    self._send_interval(name, hz)
+
+    # ------------------------------------------------------------------ signing, tcp
+
+    def _setup_signing(self, conn: Any) -> None:
+        """Sign everything we send and drop (and count) unsigned / wrong-key messages."""
+        if self._key is None:
+            return
+
+        def reject_unsigned(_mav: Any, _msg_id: int) -> bool:
+            self._last_unsigned_calls += 1
+            return False
+
+        conn.setup_signing(self._key, sign_outgoing=True, allow_unsigned_callback=reject_unsigned)
+
+    def _update_signing_counts(self) -> None:
+        """Copy pymavlink's signing counters into stats (the callback also sees bad signatures)."""
+        if self._key is None or self._conn is None:
+            return
+        bad = self._conn.mav.signing.badsig_count
+        self.stats.rejected_bad_signature = self._bad_sig_base + bad
+        self.stats.rejected_unsigned = self._last_unsigned_calls - self.stats.rejected_bad_signature
+
+    def _watch_tcp_eof(self, conn: Any) -> None:
+        """Replace pymavlink's print-and-block TCP reconnect by a clock-paced one in tick()."""
+        def on_closed() -> None:
+            if self._tcp_dead_since is None:
+                self._tcp_dead_since = self.clock.now()
+                self._event(f"tcp connection {self.config.url} closed by the peer")
+        conn.handle_eof = on_closed
+        conn.handle_disconnect = on_closed
+
+    def _maybe_reconnect_tcp(self, now: float) -> None:
+        """Try one reconnect every ``link.reconnect_s`` after a tcp peer closed the connection."""
+        if self._tcp_dead_since is None or now - self._tcp_dead_since < self.config.reconnect_s:
+            return
+        c = self.config
+        old = self._conn
+        try:
+            conn = open_connection(c.url, c.system_id, c.component_id, c.baud)
+        except LinkError:
+            self._tcp_dead_since = now
+            return
+        self._bad_sig_base += old.mav.signing.badsig_count
+        try:
+            old.close()
+        except OSError:
+            pass
+        self._watch_tcp_eof(conn)
+        self._setup_signing(conn)
+        self._conn, self._gcs_mav, self._tcp_dead_since = conn, None, None
+        self._event(f"tcp reconnected to {c.url}")
+
+    # ------------------------------------------------------------------ story
+
+    def _event(self, text: str) -> None:
+        """Append ``text`` to the story of the run (with the clock time) and log it."""
+        line = f"t={self.clock.now():.2f} {text}"
+        self.events.append(line)
+        log.info(line)
+
+    def _warn(self, text: str) -> None:
+        """An event that the operator must see: logged as a warning."""
+        line = f"t={self.clock.now():.2f} WARNING {text}"
+        self.events.append(line)
+        log.warning(text)
+
+
+def _next_time(scheduled_s: float, period_s: float, now_s: float) -> float:
+    """Return the next send time on a fixed grid; resynchronise when the caller fell behind."""
+    nxt = scheduled_s + period_s
+    return nxt if nxt > now_s else now_s + period_s
+

@@ -1,0 +1,89 @@
+"""VelocityCommand -> MANUAL_CONTROL / GUIDED setpoints: measured points, limits, signs."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+
+from dip3d_vehicle.link.setpoints import (HEAVE_TABLE, NEUTRAL_STICKS, SURGE_TABLE, SWAY_TABLE, YAW_TABLE,
+                                          ZERO_GUIDED, guided_from_velocity, manual_control_from_velocity)
+from dip3d_vehicle.servo.command import NEUTRAL, VelocityCommand
+
+speeds = st.floats(min_value=-5, max_value=5, allow_nan=False)
+
+
+def test_zero_command_is_exactly_neutral_sticks() -> None:
+    assert manual_control_from_velocity(NEUTRAL) == NEUTRAL_STICKS
+    assert NEUTRAL_STICKS.is_neutral() and NEUTRAL_STICKS.z == 500 and NEUTRAL_STICKS.buttons == 0
+
+
+@pytest.mark.parametrize("speed, stick", [(0.258, 250), (0.516, 500), (1.032, 1000)])
+def test_surge_hits_measured_points(speed: float, stick: int) -> None:
+    assert manual_control_from_velocity(VelocityCommand(surge_m_s=speed)).x == stick
+    assert manual_control_from_velocity(VelocityCommand(surge_m_s=-speed)).x == -stick
+
+
+@pytest.mark.parametrize("speed, stick", [(0.455, 500), (0.911, 1000)])
+def test_sway_hits_measured_points(speed: float, stick: int) -> None:
+    assert manual_control_from_velocity(VelocityCommand(sway_m_s=speed)).y == stick
+
+
+@pytest.mark.parametrize("rate, stick", [(0.214, 250), (0.593, 500), (1.319, 1000)])
+def test_yaw_hits_measured_points(rate: float, stick: int) -> None:
+    assert manual_control_from_velocity(VelocityCommand(yaw_rate_rad_s=rate)).r == stick
+    assert manual_control_from_velocity(VelocityCommand(yaw_rate_rad_s=-rate)).r == -stick
+
+
+@pytest.mark.parametrize("heave, z", [(-0.90, 1000), (-0.36, 750), (0.36, 250), (0.97, 0), (0.0, 500)])
+def test_heave_hits_measured_points_down_positive(heave: float, z: int) -> None:
+    assert manual_control_from_velocity(VelocityCommand(heave_m_s=heave)).z == z
+
+
+def test_tables_are_monotonic() -> None:
+    for table in (SURGE_TABLE, SWAY_TABLE, YAW_TABLE):
+        assert all(a[0] < b[0] and a[1] < b[1] for a, b in zip(table, table[1:]))
+    assert all(a[0] < b[0] and a[1] > b[1] for a, b in zip(HEAVE_TABLE, HEAVE_TABLE[1:]))
+
+
+@given(speeds, speeds, speeds, speeds)
+def test_sticks_always_in_range_with_zero_buttons(vx: float, vy: float, vz: float, r: float) -> None:
+    s = manual_control_from_velocity(VelocityCommand(vx, vy, vz, r))
+    assert -1000 <= s.x <= 1000 and -1000 <= s.y <= 1000 and -1000 <= s.r <= 1000 and 0 <= s.z <= 1000
+    assert s.buttons == 0
+    assert (s.x > 0) == (vx > 1e-3) or abs(vx) < 1e-3
+    assert (s.z < 500) == (vz > 1e-3) or abs(vz) < 1e-3
+
+
+@given(st.floats(min_value=0, max_value=2), st.floats(min_value=0, max_value=2))
+def test_surge_mapping_monotonic(a: float, b: float) -> None:
+    lo, hi = sorted((a, b))
+    assert manual_control_from_velocity(VelocityCommand(surge_m_s=lo)).x <= \
+        manual_control_from_velocity(VelocityCommand(surge_m_s=hi)).x
+
+
+def test_non_finite_axes_are_neutral() -> None:
+    s = manual_control_from_velocity(VelocityCommand(math.nan, math.inf, -math.inf, math.nan))
+    assert s == NEUTRAL_STICKS
+    g = guided_from_velocity(VelocityCommand(math.nan, 0.0, 0.0, math.inf))
+    assert g.is_zero()
+
+
+def test_guided_setpoint_frame_mask_and_clamp() -> None:
+    g = guided_from_velocity(VelocityCommand(0.3, -0.2, 0.1, 9.0))
+    assert (g.frame, g.type_mask) == (8, 1479)
+    assert (g.vx_m_s, g.vy_m_s, g.vz_m_s, g.yaw_rate_rad_s) == (0.3, -0.2, 0.1, 1.5)
+    assert ZERO_GUIDED.is_zero() and ZERO_GUIDED.yaw_rate_rad_s == 0.0
+
+
+def test_type_mask_matches_pymavlink_bits() -> None:
+    from pymavlink import mavutil
+
+    m = mavutil.mavlink
+    mask = (m.POSITION_TARGET_TYPEMASK_X_IGNORE | m.POSITION_TARGET_TYPEMASK_Y_IGNORE
+            | m.POSITION_TARGET_TYPEMASK_Z_IGNORE | m.POSITION_TARGET_TYPEMASK_AX_IGNORE
+            | m.POSITION_TARGET_TYPEMASK_AY_IGNORE | m.POSITION_TARGET_TYPEMASK_AZ_IGNORE
+            | m.POSITION_TARGET_TYPEMASK_YAW_IGNORE)
+    assert mask == 1479 and m.MAV_FRAME_BODY_NED == 8
