@@ -14,7 +14,7 @@ from dip3d_vehicle.link import VehicleLink
 from dip3d_vehicle.link.connection import mavlink2, use_mavlink2
 from dip3d_vehicle.servo.command import VelocityCommand
 
-from conftest import MOVE, FakeAutopilot, Harness, link_params
+from fake_ardusub import MOVE, FakeAutopilot, Harness, link_params
 
 
 def _moving(r) -> bool:
