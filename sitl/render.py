@@ -168,10 +168,16 @@ class StereoRenderer:
         self._count = 0
 
     def close(self) -> None:
-        """Release the worker threads."""
+        """Release the worker threads (rendering still works afterwards, single-threaded)."""
         if self._pool is not None:
             self._pool.shutdown()
             self._pool = None
+
+    def __enter__(self) -> "StereoRenderer":
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.close()
 
     # -- public ----------------------------------------------------------------------------
     def camera_poses(self, pose: VehiclePose) -> tuple[CameraPose, CameraPose]:

@@ -11,6 +11,11 @@ import numpy as np
 __all__ = ["placard_texture", "mip_levels"]
 
 
+_DISCS = ((250, 250, 250), (120, 235, 250), (170, 215, 250), (200, 250, 200), (230, 200, 250),
+          (250, 230, 190))
+"""Light BGR disc colours behind the number (white, yellow, peach, mint, pink, sky)."""
+
+
 def _random_colour(rng: np.random.Generator) -> tuple[int, int, int]:
     """Return a saturated random BGR colour."""
     hsv = np.uint8([[[rng.integers(0, 180), rng.integers(120, 256), rng.integers(60, 256)]]])
@@ -56,10 +61,14 @@ def placard_texture(number: int, seed: int = 0, size_px: int = 512) -> np.ndarra
     _shapes(img, rng, 25, int(30 * k), int(70 * k))
     _shapes(img, rng, 90, int(10 * k), int(28 * k))
     _shapes(img, rng, 220, max(2, int(3 * k)), max(3, int(9 * k)))
-    # The number on a white disc, as large as legibility allows.
+    # The number on a light disc, as large as legibility allows. Disc colour, size and ring vary
+    # per placard so that the discs of different placards are not identical features.
     centre = (s // 2, s // 2)
-    cv2.circle(img, centre, int(0.28 * s), (250, 250, 250), -1, cv2.LINE_AA)
-    cv2.circle(img, centre, int(0.28 * s), (20, 20, 20), max(2, int(6 * k)), cv2.LINE_AA)
+    disc = _DISCS[int(rng.integers(len(_DISCS)))]
+    radius = int(s * rng.uniform(0.25, 0.31))
+    cv2.circle(img, centre, radius, disc, -1, cv2.LINE_AA)
+    if rng.random() < 0.7:
+        cv2.circle(img, centre, radius, (20, 20, 20), max(2, int(rng.uniform(3, 12) * k)), cv2.LINE_AA)
     text = str(number)
     font, thick = cv2.FONT_HERSHEY_DUPLEX, max(2, int(22 * k))
     (tw, th), _ = cv2.getTextSize(text, font, 1.0, thick)

@@ -162,3 +162,14 @@ def test_sift_matches_on_every_placard_within_3m():
         z_rect = (rig.R1 @ np.asarray(info["xyz_cam_m"]))[2]
         assert depth == pytest.approx(z_rect, rel=0.05)
     assert set(counts) == {1, 2, 3}, counts
+
+
+@pytest.mark.parametrize("name", ["paper_pool", "far_diver", "receding_line", "distractor_behind", "murky"])
+def test_every_built_in_shows_diver_and_placards_from_the_start(name):
+    for seed in (0, 1):
+        sc = load_scenario(name, seed)
+        with StereoRenderer(sc) as r:
+            frame = _render(r, sc, t=sc.diver.start_s + 1.0)
+        assert frame.meta["diver_visible"] and frame.meta["pointing"], (name, seed)
+        hidden = [pid for pid, p in frame.meta["placards"].items() if not p["visible"]]
+        assert not hidden, f"{name} seed {seed}: placards {hidden} not in view"

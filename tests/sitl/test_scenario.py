@@ -72,7 +72,7 @@ def test_distractor_is_on_the_forearm_line_behind_the_elbow():
     to_d = np.asarray(d.centre_ned_m) - j["elbow"]
     assert np.linalg.norm(np.cross(fore, to_d)) / np.linalg.norm(fore) < 1e-9  # on the line
     assert fore @ to_d < 0  # behind the elbow
-    assert np.linalg.norm(to_d) == pytest.approx(1.2)
+    assert np.linalg.norm(to_d) == pytest.approx(1.0)
 
 
 def test_diver_timeline():
@@ -165,3 +165,36 @@ def test_base_inheritance_and_cycles(tmp_path):
     _write(tmp_path, "base: a.yaml\n", "b.yaml")
     with pytest.raises(ScenarioError, match="circular"):
         load_scenario(a)
+
+
+# -- world geometry ------------------------------------------------------------------------------
+
+from hypothesis import given, settings  # noqa: E402
+from hypothesis import strategies as st  # noqa: E402
+
+from sitl.world import VehiclePose, right_camera_pose  # noqa: E402
+
+angles = st.floats(-math.pi, math.pi, allow_nan=False)
+
+
+@settings(max_examples=60, deadline=None)
+@given(yaw=angles, pitch=st.floats(-1.2, 1.2), n=st.floats(-50, 50), e=st.floats(-50, 50),
+       d=st.floats(0, 100))
+def test_camera_axes_follow_vehicle_yaw_and_mount_pitch(yaw, pitch, n, e, d):
+    pose = VehiclePose(n, e, d, yaw)
+    cam = left_camera_pose(pose, (0.3, 0.0, 0.1), pitch)
+    R_wc = cam.R_cw.T
+    forward = np.array([math.cos(yaw) * math.cos(pitch), math.sin(yaw) * math.cos(pitch), -math.sin(pitch)])
+    assert np.allclose(R_wc[:, 2], forward, atol=1e-9)  # optical z: heading, tilted up by pitch
+    assert np.allclose(R_wc[:, 0], [-math.sin(yaw), math.cos(yaw), 0.0], atol=1e-9)  # x: vehicle right
+    centre = np.array([n, e, d]) + np.array([0.3 * math.cos(yaw), 0.3 * math.sin(yaw), 0.1])
+    assert np.allclose(cam.centre_w, centre, atol=1e-9)
+    assert np.allclose(cam.to_cam(centre), 0.0, atol=1e-9)
+
+
+def test_right_camera_is_baseline_to_the_right():
+    sc = load_scenario("paper_pool", 0)
+    left = left_camera_pose(sc.initial_vehicle_pose, sc.camera.mount_frd_m, sc.camera.mount_pitch_rad)
+    right = right_camera_pose(left, sc.camera.R, sc.camera.T)
+    offset = left.to_cam(right.centre_w)[0]
+    assert offset == pytest.approx([0.12, 0.0, 0.0], abs=1e-9)
