@@ -621,18 +621,21 @@ def _placard(n: _Node, ctx: _Context, index: int) -> Placard:
 
 def _diver(n: _Node, ctx: _Context, placards: list[Placard], rng: np.random.Generator) -> Diver:
     positions = n.items("positions")
-    pick = positions[int(rng.integers(len(positions)))]
+    names, chests = [], []
     for i, node in enumerate(positions):  # check them all, not only the chosen one
-        node.text("name", str(i + 1))
-        _position(node, ctx)
+        name = node.raw("name", str(i + 1))
+        if not isinstance(name, (str, int)) or isinstance(name, bool):
+            raise node.fail("name", f"{name!r} is not a name")
+        names.append(str(name))
+        chests.append(_position(node, ctx))
         node.done()
-    chest = _position(pick, ctx)
-    name = pick.text("name", "1")
+    pick = int(rng.integers(len(positions)))
+    chest, name = chests[pick], names[pick]
     objects = [p.id for p in placards if p.role == "object"]
-    choices = [int(c) for c in n.raw("target_choices", objects)] if isinstance(
-        n.raw("target_choices", objects), list) else None
-    if not choices:
-        raise n.fail("target_choices", "expected a non-empty list of placard ids")
+    choices = n.raw("target_choices", objects)
+    if not isinstance(choices, list) or not choices or not all(
+            isinstance(c, int) and not isinstance(c, bool) for c in choices):
+        raise n.fail("target_choices", f"{choices!r} is not a non-empty list of placard ids")
     for c in choices:
         if c not in [p.id for p in placards]:
             raise n.fail("target_choices", f"no placard with id {c}")
