@@ -36,6 +36,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+import cv2
 import numpy as np
 import yaml
 
@@ -140,8 +141,6 @@ class Camera:
     @property
     def R(self) -> np.ndarray:
         """Rotation of the stereo extrinsics (X_right = R X_left + T)."""
-        import cv2
-
         return cv2.Rodrigues(np.asarray(self.right_rotation_rad, float))[0]
 
     @property
