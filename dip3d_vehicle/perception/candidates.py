@@ -1,0 +1,209 @@
+"""Candidate objects: the CandidateDetector interface and the paper's SIFT detector.
+
+The paper's detector masks away the diver (everything on the far side of the wrist), computes SIFT
+in both rectified images, matches them with brute-force k-NN (k = 2) and Lowe's ratio test, and
+keeps matches on the same rectified row with positive disparity. ``row_band`` matching gives the
+same kind of matches without the quadratic cost: each left feature is compared only with right
+features whose row is within the tolerance (epipolar constraint) and whose disparity is plausible.
+"""
+
+from __future__ import annotations
+
+from abc import ABC, abstractmethod
+from typing import Mapping
+
+import cv2
+import numpy as np
+
+from .calibration import StereoRig
+from .values import ArmKeypoints, Candidates
+
+__all__ = ["CandidateDetector", "SiftDetector", "match_bruteforce", "match_row_band", "kept_columns"]
+
+# A lone row-band neighbour (no second one for the ratio test) is accepted only if it is this close
+# (SIFT descriptors are L2-normalised to 512; good matches are typically well under 200).
+_LONE_MATCH_MAX_DIST = 180.0
+
+
+class CandidateDetector(ABC):
+    """Finds candidate object points matched across a rectified stereo pair."""
+
+    name = "candidates"
+
+    @abstractmethod
+    def detect(self, left_rect: np.ndarray, right_rect: np.ndarray, arm: ArmKeypoints | None,
+               rig: StereoRig) -> Candidates:
+        """Return matched candidates in rectified pixels (the diver's side masked away)."""
+
+
+def kept_columns(arm: ArmKeypoints | None, side: str, width: int, mask_side: str,
+                 offset_px: float) -> tuple[int, int]:
+    """Return the [x0, x1) column range kept for candidates in one image, pixels.
+
+    ``mask_side``: "right" keeps x > wrist + offset (paper), "left" keeps x < wrist - offset,
+    "pointing" picks the side the forearm points to in the left image.
+    """
+    if arm is None:
+        return 0, width
+    wrist = arm.joint("wrist", side)
+    if mask_side == "pointing":
+        elbow = arm.joint("elbow", "left")
+        mask_side = "right" if arm.joint("wrist", "left")[0] >= elbow[0] else "left"
+    if mask_side == "right":
+        return int(np.clip(np.ceil(wrist[0] + offset_px), 0, width)), width
+    return 0, int(np.clip(np.floor(wrist[0] - offset_px), 0, width))
+
+
+def _ratio_keep(pairs, ratio: float) -> tuple[np.ndarray, np.ndarray]:
+    """Apply Lowe's ratio test to cv2 knn results; return (query idx, train idx)."""
+    q, t = [], []
+    for m in pairs:
+        if len(m) == 2 and m[0].distance < ratio * m[1].distance:
+            q.append(m[0].queryIdx)
+            t.append(m[0].trainIdx)
+    return np.asarray(q, dtype=np.int64), np.asarray(t, dtype=np.int64)
+
+
+def match_bruteforce(desc_l: np.ndarray, desc_r: np.ndarray, ratio: float) -> tuple[np.ndarray, np.ndarray]:
+    """Brute-force 2-NN matching with Lowe's ratio test (the paper's); return index pairs."""
+    if len(desc_l) == 0 or len(desc_r) < 2:
+        return np.zeros(0, np.int64), np.zeros(0, np.int64)
+    pairs = cv2.BFMatcher(cv2.NORM_L2).knnMatch(desc_l, desc_r, k=2)
+    return _ratio_keep(pairs, ratio)
+
+
+def match_row_band(pts_l: np.ndarray, desc_l: np.ndarray, pts_r: np.ndarray, desc_r: np.ndarray,
+                   ratio: float, row_tol_px: float, disp_range: tuple[float, float],
+                   disparity_sign: int) -> tuple[np.ndarray, np.ndarray]:
+    """2-NN matching restricted to the epipolar band: |y_l - y_r| <= tol and disparity in range.
+
+    Args:
+        pts_l, pts_r: (N, 2) / (M, 2) feature positions, rectified pixels.
+        desc_l, desc_r: float32 descriptors.
+        ratio: Lowe ratio among the candidates that satisfy the geometric constraint.
+        row_tol_px: row tolerance, pixels.
+        disp_range: (min, max) disparity magnitude, pixels.
+        disparity_sign: +1 if x_l > x_r for points in front of the rig.
+    Returns:
+        (left indices, right indices) of accepted matches.
+    """
+    if len(pts_l) == 0 or len(pts_r) == 0:
+        return np.zeros(0, np.int64), np.zeros(0, np.int64)
+    band = max(2.0 * row_tol_px, 1.0)
+    order_r = np.argsort(pts_r[:, 1], kind="stable")
+    yr = pts_r[order_r, 1]
+    keys_l = np.floor(pts_l[:, 1] / band).astype(np.int64)
+    q_out, t_out = [], []
+    for key in np.unique(keys_l):
+        rows_l = np.nonzero(keys_l == key)[0]
+        lo = np.searchsorted(yr, key * band - row_tol_px, "left")
+        hi = np.searchsorted(yr, (key + 1) * band + row_tol_px, "right")
+        if hi <= lo:
+            continue
+        cand = order_r[lo:hi]
+        q, t = _band_matches(pts_l[rows_l], desc_l[rows_l], pts_r[cand], desc_r[cand], ratio,
+                             row_tol_px, disp_range, disparity_sign)
+        q_out.append(rows_l[q])
+        t_out.append(cand[t])
+    if not q_out:
+        return np.zeros(0, np.int64), np.zeros(0, np.int64)
+    return _unique_right(np.concatenate(q_out), np.concatenate(t_out))
+
+
+def _unique_right(q: np.ndarray, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Drop matches whose right feature was claimed by several left features (ambiguous).
+
+    Edges that run along the image rows give several left features that all match one right
+    feature at different disparities; none of them can be trusted.
+    """
+    _, inverse, counts = np.unique(t, return_inverse=True, return_counts=True)
+    keep = counts[inverse] == 1
+    return q[keep], t[keep]
+
+
+def _band_matches(pl, dl, pr, dr, ratio, row_tol_px, disp_range, sign) -> tuple[np.ndarray, np.ndarray]:
+    """Match one band of left features against right features allowed by geometry."""
+    d2 = (np.sum(dl * dl, 1)[:, None] + np.sum(dr * dr, 1)[None, :] - 2.0 * dl @ dr.T)
+    disp = sign * (pl[:, None, 0] - pr[None, :, 0])
+    ok = (np.abs(pl[:, None, 1] - pr[None, :, 1]) <= row_tol_px) & (disp >= disp_range[0]) & (disp <= disp_range[1])
+    d2 = np.where(ok, np.maximum(d2, 0.0), np.inf)
+    if d2.shape[1] == 1:
+        best = np.zeros(len(pl), np.int64)
+        second = np.full(len(pl), np.inf)
+    else:
+        two = np.argpartition(d2, 1, axis=1)[:, :2]
+        a, b = np.take_along_axis(d2, two, 1).T
+        swap = b < a
+        best = np.where(swap, two[:, 1], two[:, 0])
+        second = np.where(swap, a, b)
+    first = d2[np.arange(len(pl)), best]
+    dist1, dist2 = np.sqrt(first), np.sqrt(second)
+    keep = np.isfinite(dist1) & ((dist1 < ratio * dist2) | (~np.isfinite(dist2) & (dist1 < _LONE_MATCH_MAX_DIST)))
+    return np.nonzero(keep)[0], best[keep]
+
+
+class SiftDetector(CandidateDetector):
+    """The paper's detector: SIFT on the masked region, k-NN matching, ratio test, row filter."""
+
+    name = "sift"
+
+    def __init__(self, mask_side: str = "right", mask_offset_px: float = 40.0, matcher: str = "bruteforce",
+                 lowe_ratio: float = 0.3, row_tolerance_px: float = 1.5, min_disparity_px: float = 0.5,
+                 max_features: int = 0, image_scale: float = 1.0, contrast_threshold: float = 0.04,
+                 min_depth_m: float = 0.2) -> None:
+        self.mask_side, self.mask_offset_px = mask_side, mask_offset_px
+        self.matcher, self.lowe_ratio = matcher, lowe_ratio
+        self.row_tolerance_px, self.min_disparity_px = row_tolerance_px, min_disparity_px
+        self.image_scale, self.min_depth_m = image_scale, min_depth_m
+        self._sift = cv2.SIFT_create(nfeatures=max_features, contrastThreshold=contrast_threshold)
+        self.last_counts: dict[str, int] = {}
+
+    @classmethod
+    def from_params(cls, params: Mapping) -> "SiftDetector":
+        """Build the detector from effective parameters (``candidates.*``)."""
+        return cls(params["candidates.mask_side"], params["candidates.mask_offset_px"],
+                   params["candidates.matcher"], params["candidates.lowe_ratio"],
+                   params["candidates.row_tolerance_px"], params["candidates.min_disparity_px"],
+                   params["candidates.max_features"], params["candidates.image_scale"],
+                   params["candidates.sift_contrast_threshold"], max(params["filters.min_depth_m"], 0.2))
+
+    def features(self, image: np.ndarray, cols: tuple[int, int]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Return (points px, descriptors, sizes px) of SIFT features in a column range."""
+        x0, x1 = cols
+        if x1 - x0 < 8:
+            return np.zeros((0, 2)), np.zeros((0, 128), np.float32), np.zeros(0)
+        crop = image[:, x0:x1]
+        gray = crop if crop.ndim == 2 else cv2.cvtColor(crop, cv2.COLOR_BGR2GRAY)
+        s = self.image_scale
+        if s != 1.0:
+            gray = cv2.resize(gray, None, fx=s, fy=s, interpolation=cv2.INTER_AREA)
+        kps, desc = self._sift.detectAndCompute(gray, None)
+        if not kps:
+            return np.zeros((0, 2)), np.zeros((0, 128), np.float32), np.zeros(0)
+        pts = np.array([k.pt for k in kps], np.float64)
+        pts = (pts + 0.5) / s - 0.5 if s != 1.0 else pts
+        pts[:, 0] += x0
+        sizes = np.array([k.size for k in kps], np.float64) / s
+        return pts, desc.astype(np.float32), sizes
+
+    def detect(self, left_rect: np.ndarray, right_rect: np.ndarray, arm: ArmKeypoints | None,
+               rig: StereoRig) -> Candidates:
+        """Return matched candidates in rectified pixels."""
+        width = left_rect.shape[1]
+        pl, dl, sl = self.features(left_rect, kept_columns(arm, "left", width, self.mask_side, self.mask_offset_px))
+        pr, dr, _ = self.features(right_rect, kept_columns(arm, "right", width, self.mask_side, self.mask_offset_px))
+        sign = rig.disparity_sign
+        max_disp = rig.focal_px * rig.baseline_m / self.min_depth_m
+        if self.matcher == "row_band":
+            qi, ti = match_row_band(pl, dl, pr, dr, self.lowe_ratio, self.row_tolerance_px,
+                                    (self.min_disparity_px, max_disp), sign)
+        else:
+            qi, ti = match_bruteforce(dl, dr, self.lowe_ratio)
+        self.last_counts = {"features_left": len(pl), "features_right": len(pr), "matches": len(qi)}
+        if len(qi) == 0:
+            return Candidates.empty()
+        left, right = pl[qi], pr[ti]
+        disp = sign * (left[:, 0] - right[:, 0])
+        keep = (np.abs(left[:, 1] - right[:, 1]) <= self.row_tolerance_px) & (disp >= self.min_disparity_px)
+        self.last_counts["kept"] = int(keep.sum())
+        return Candidates(left[keep], right[keep], dl[qi][keep], sl[qi][keep])

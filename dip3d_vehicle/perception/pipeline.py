@@ -1,0 +1,180 @@
+"""The perception core: a stereo pair in, the pointed-at target (with its evidence) out.
+
+rectify -> pose (both images) -> pose filters -> candidates (masked SIFT, matched) -> triangulate
+-> candidate filters -> select. Every stage is timed (milliseconds).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+from typing import Mapping
+
+import numpy as np
+
+from .calibration import StereoRig
+from .candidates import CandidateDetector, SiftDetector
+from .filters import candidate_keep, pose_rejection
+from .pose import PoseEstimator
+from .selection import PointingSelector, make_selector
+from .triangulation import normalize_q, triangulate
+from .values import JOINTS, Arm3D, ArmKeypoints, Candidates, Selection
+
+__all__ = ["Perception", "PerceptionResult", "make_pose_estimator"]
+
+
+@dataclass(frozen=True)
+class PerceptionResult:
+    """Everything the perception core found in one stereo pair.
+
+    Attributes:
+        status: "ok", "no_pose", "pose_low_confidence", "pose_rejected" or "no_candidates".
+        reason: one line saying why when the status is not "ok".
+        arm: the arm keypoints (rectified px) or None.
+        arm3d: triangulated joints or None.
+        candidates: the kept matched features (rectified px).
+        candidates_xyz_m: (N, 3) their 3D points, metres.
+        selection: the selector's result (None unless status is "ok").
+        timings_ms: milliseconds per stage.
+    """
+
+    status: str
+    reason: str = ""
+    arm: ArmKeypoints | None = None
+    arm3d: Arm3D | None = None
+    candidates: Candidates = field(default_factory=Candidates.empty)
+    candidates_xyz_m: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
+    selection: Selection | None = None
+    timings_ms: dict = field(default_factory=dict)
+
+    @property
+    def target_rect_px(self) -> np.ndarray | None:
+        """Return the chosen target's rectified left-image point, or None."""
+        target = self.selection.target if self.selection else None
+        return None if target is None else target.left_px
+
+    def to_json(self, rig: StereoRig) -> dict:
+        """Return the contract JSON (DESIGN.md section 3); pixel fields in ORIGINAL pixels."""
+        sel = self.selection
+        objs = sel.objects if sel else ()
+        cands = [{"left_px": _r(rig.to_original(o.left_px, "left")[0]), "left_rect_px": _r(o.left_px),
+                  "xyz_m": _r(o.xyz_m, 4), "score": _num(sel.scores[i]), "features": len(o.members)}
+                 for i, o in enumerate(objs)]
+        target = None
+        if sel is not None and sel.index is not None:
+            target = dict(cands[sel.index], index=sel.index)
+        out = {"status": self.status, "reason": self.reason, "target": target, "candidates": cands,
+               "features": len(self.candidates), "arm": self._arm_json(rig),
+               "selection": None if sel is None else {
+                   "method": sel.method, "confidence": _num(sel.confidence),
+                   "ambiguity_margin": _num(sel.ambiguity_margin), "ambiguous": sel.ambiguous},
+               "timings_ms": {k: round(v, 2) for k, v in self.timings_ms.items()}}
+        return out
+
+    def _arm_json(self, rig: StereoRig) -> dict | None:
+        """Return the arm's joints with original pixels, 3D and confidence."""
+        if self.arm is None:
+            return None
+        left = rig.to_original(self.arm.left_px, "left")
+        right = rig.to_original(self.arm.right_px, "right")
+        out = {}
+        for i, name in enumerate(JOINTS):
+            out[name] = {"left_px": _r(left[i]), "right_px": _r(right[i]),
+                         "confidence": [_num(self.arm.left_conf[i]), _num(self.arm.right_conf[i])],
+                         "xyz_m": None if self.arm3d is None else _r(self.arm3d.xyz_m[i], 4)}
+        return out
+
+
+def _num(value: float, nd: int = 4) -> float | None:
+    """Return a JSON-safe rounded number (None for NaN/inf)."""
+    value = float(value)
+    return round(value, nd) if math.isfinite(value) else None
+
+
+def _r(arr, nd: int = 2) -> list:
+    """Return an array as a rounded JSON list (NaN -> None)."""
+    return [_num(v, nd) for v in np.asarray(arr, dtype=float).ravel()]
+
+
+def make_pose_estimator(params: Mapping, keypoints: dict | None = None) -> PoseEstimator:
+    """Return the pose backend named by ``pose.backend`` (keypoints file or BlazePose)."""
+    if params["pose.backend"] == "keypoints":
+        from .keypoints_file import GivenKeypoints
+        return GivenKeypoints(params["pose.arm"], keypoints)
+    from .blazepose import BlazePoseEstimator  # imported lazily: loads onnxruntime
+    return BlazePoseEstimator.from_params(params)
+
+
+class Perception:
+    """The perception core for one rig and one parameter set."""
+
+    def __init__(self, rig: StereoRig, params: Mapping, pose: PoseEstimator,
+                 detector: CandidateDetector | None = None, selector: PointingSelector | None = None) -> None:
+        self.rig, self.params, self.pose = rig, params, pose
+        self.detector = detector or SiftDetector.from_params(params)
+        self.selector = selector or make_selector(params)
+        self.Q = normalize_q(rig.Q, rig.disparity_sign)
+
+    def process(self, left: np.ndarray, right: np.ndarray) -> PerceptionResult:
+        """Run the whole core on an ORIGINAL (unrectified) pair."""
+        t0 = time.perf_counter()
+        left_rect, right_rect = self.rig.rectify(left, right)
+        return self.process_rectified(left_rect, right_rect, {"rectify": (time.perf_counter() - t0) * 1e3})
+
+    def process_rectified(self, left_rect: np.ndarray, right_rect: np.ndarray,
+                          timings: dict | None = None) -> PerceptionResult:
+        """Run the core on an already rectified pair."""
+        tm = dict(timings or {})
+        clock = _Stopwatch(tm)
+        with clock("pose"):
+            arm = self.pose.estimate(left_rect, right_rect, self.rig)
+        if arm is None:
+            return PerceptionResult("no_pose", "no person found", timings_ms=tm)
+        if arm.min_confidence() < self.params["pose.min_confidence"]:
+            return PerceptionResult("pose_low_confidence", f"keypoint confidence {arm.min_confidence():.2f} under "
+                                    f"pose.min_confidence {self.params['pose.min_confidence']:g}", arm, timings_ms=tm)
+        with clock("triangulate"):
+            arm3d = self._triangulate_arm(arm)
+        why = pose_rejection(arm3d.xyz_m, self.params["filters.max_joint_dz_m"], self.params["filters.min_depth_m"])
+        if why:
+            return PerceptionResult("pose_rejected", why, arm, arm3d, timings_ms=tm)
+        with clock("candidates"):
+            cands = self.detector.detect(left_rect, right_rect, arm, self.rig)
+        with clock("triangulate"):
+            xyz = triangulate(self.Q, cands.left_px, cands.disparity_px)
+            keep = candidate_keep(xyz, self.params["filters.min_depth_m"], self.params["filters.max_depth_m"])
+            cands, xyz = cands.subset(keep), xyz[keep]
+        if len(cands) == 0:
+            return PerceptionResult("no_candidates", "no matched features in the kept region", arm, arm3d, timings_ms=tm)
+        with clock("select"):
+            sel = self.selector.select(arm, arm3d, cands, xyz, self.rig)
+        if sel.index is None:
+            return PerceptionResult("no_candidates", "no object with enough matched features", arm, arm3d,
+                                    cands, xyz, sel, tm)
+        return PerceptionResult("ok", "", arm, arm3d, cands, xyz, sel, tm)
+
+    def _triangulate_arm(self, arm: ArmKeypoints) -> Arm3D:
+        """Triangulate the three joints; depth sigma from the keypoint noise model (metres)."""
+        disp = arm.left_px[:, 0] - arm.right_px[:, 0]
+        rows = (arm.left_px[:, 1] + arm.right_px[:, 1]) / 2.0
+        xyz = triangulate(self.Q, np.c_[arm.left_px[:, 0], rows], disp)
+        sigma = self.rig.depth_sigma_m(np.abs(xyz[:, 2]), math.sqrt(2.0) * self.params["selection.keypoint_sigma_px"])
+        return Arm3D(xyz, np.asarray(sigma, dtype=float))
+
+
+class _Stopwatch:
+    """Accumulates wall time per stage into a dict, milliseconds."""
+
+    def __init__(self, out: dict) -> None:
+        self.out = out
+
+    def __call__(self, name: str) -> "_Stopwatch":
+        self._name = name
+        return self
+
+    def __enter__(self) -> None:
+        self._t0 = time.perf_counter()
+
+    def __exit__(self, *exc) -> None:
+        self.out[self._name] = self.out.get(self._name, 0.0) + (time.perf_counter() - self._t0) * 1e3
