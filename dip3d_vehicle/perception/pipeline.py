@@ -129,18 +129,30 @@ class Perception:
         clock = _Stopwatch(tm)
         with clock("pose"):
             arm = self.pose.estimate(left_rect, right_rect, self.rig)
-        if arm is None:
-            return PerceptionResult("no_pose", "no person found", timings_ms=tm)
-        if arm.min_confidence() < self.params["pose.min_confidence"]:
-            return PerceptionResult("pose_low_confidence", f"keypoint confidence {arm.min_confidence():.2f} under "
-                                    f"pose.min_confidence {self.params['pose.min_confidence']:g}", arm, timings_ms=tm)
         with clock("triangulate"):
-            arm3d = self._triangulate_arm(arm)
-        why = pose_rejection(arm3d.xyz_m, self.params["filters.max_joint_dz_m"], self.params["filters.min_depth_m"])
-        if why:
-            return PerceptionResult("pose_rejected", why, arm, arm3d, timings_ms=tm)
+            early = self.check_arm(arm)
+        if early.status != "ok":
+            return PerceptionResult(early.status, early.reason, early.arm, early.arm3d, timings_ms=tm)
         with clock("candidates"):
             cands = self.detector.detect(left_rect, right_rect, arm, self.rig)
+        return self.decide(early, cands, tm)
+
+    def check_arm(self, arm: ArmKeypoints | None) -> PerceptionResult:
+        """Triangulate and filter the arm; status "ok" when it may be used for selection."""
+        if arm is None:
+            return PerceptionResult("no_pose", "no person found")
+        if arm.min_confidence() < self.params["pose.min_confidence"]:
+            return PerceptionResult("pose_low_confidence", f"keypoint confidence {arm.min_confidence():.2f} under "
+                                    f"pose.min_confidence {self.params['pose.min_confidence']:g}", arm)
+        arm3d = self.triangulate_arm(arm)
+        why = pose_rejection(arm3d.xyz_m, self.params["filters.max_joint_dz_m"], self.params["filters.min_depth_m"])
+        return PerceptionResult("pose_rejected" if why else "ok", why or "", arm, arm3d)
+
+    def decide(self, checked: PerceptionResult, cands: Candidates, timings: dict | None = None) -> PerceptionResult:
+        """Triangulate and filter candidates, then select, for an arm that passed ``check_arm``."""
+        tm = dict(timings or {})
+        clock = _Stopwatch(tm)
+        arm, arm3d = checked.arm, checked.arm3d
         with clock("triangulate"):
             xyz = triangulate(self.Q, cands.left_px, cands.disparity_px)
             keep = candidate_keep(xyz, self.params["filters.min_depth_m"], self.params["filters.max_depth_m"])
@@ -154,7 +166,7 @@ class Perception:
                                     cands, xyz, sel, tm)
         return PerceptionResult("ok", "", arm, arm3d, cands, xyz, sel, tm)
 
-    def _triangulate_arm(self, arm: ArmKeypoints) -> Arm3D:
+    def triangulate_arm(self, arm: ArmKeypoints) -> Arm3D:
         """Triangulate the three joints; depth sigma from the keypoint noise model (metres)."""
         disp = arm.left_px[:, 0] - arm.right_px[:, 0]
         rows = (arm.left_px[:, 1] + arm.right_px[:, 1]) / 2.0
