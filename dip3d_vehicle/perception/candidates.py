@@ -9,7 +9,10 @@ features whose row is within the tolerance (epipolar constraint) and whose dispa
 
 from __future__ import annotations
 
+import threading
+import time
 from abc import ABC, abstractmethod
+from concurrent.futures import ThreadPoolExecutor
 from typing import Mapping
 
 import cv2
@@ -23,6 +26,18 @@ __all__ = ["CandidateDetector", "SiftDetector", "match_bruteforce", "match_row_b
 # A lone row-band neighbour (no second one for the ratio test) is accepted only if it is this close
 # (SIFT descriptors are L2-normalised to 512; good matches are typically well under 200).
 _LONE_MATCH_MAX_DIST = 180.0
+
+_POOL: ThreadPoolExecutor | None = None
+_POOL_LOCK = threading.Lock()
+
+
+def _pool() -> ThreadPoolExecutor:
+    """Return the shared 2-thread pool that computes the left and right features concurrently."""
+    global _POOL
+    with _POOL_LOCK:
+        if _POOL is None:
+            _POOL = ThreadPoolExecutor(2, thread_name_prefix="sift")
+        return _POOL
 
 
 class CandidateDetector(ABC):
@@ -155,8 +170,13 @@ class SiftDetector(CandidateDetector):
         self.matcher, self.lowe_ratio = matcher, lowe_ratio
         self.row_tolerance_px, self.min_disparity_px = row_tolerance_px, min_disparity_px
         self.image_scale, self.min_depth_m = image_scale, min_depth_m
-        self._sift = cv2.SIFT_create(nfeatures=max_features, contrastThreshold=contrast_threshold)
+        # One SIFT object per image: the two images are processed concurrently (cv2 releases the GIL).
+        self._sifts = tuple(cv2.SIFT_create(nfeatures=max_features, contrastThreshold=contrast_threshold)
+                            for _ in range(2))
+        self._sift = self._sifts[0]
+        self.concurrent = True
         self.last_counts: dict[str, int] = {}
+        self.last_timings_ms: dict[str, float] = {}
 
     @classmethod
     def from_params(cls, params: Mapping) -> "SiftDetector":
@@ -167,8 +187,12 @@ class SiftDetector(CandidateDetector):
                    params["candidates.max_features"], params["candidates.image_scale"],
                    params["candidates.sift_contrast_threshold"], max(params["filters.min_depth_m"], 0.2))
 
-    def features(self, image: np.ndarray, cols: tuple[int, int]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Return (points px, descriptors, sizes px) of SIFT features in a column range."""
+    def features(self, image: np.ndarray, cols: tuple[int, int], which: int = 0
+                 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Return (points px, descriptors, sizes px) of SIFT features in a column range.
+
+        ``which`` (0 or 1) picks the SIFT instance, so that two images may run in parallel threads.
+        """
         x0, x1 = cols
         if x1 - x0 < 8:
             return np.zeros((0, 2)), np.zeros((0, 128), np.float32), np.zeros(0)
@@ -177,7 +201,7 @@ class SiftDetector(CandidateDetector):
         s = self.image_scale
         if s != 1.0:
             gray = cv2.resize(gray, None, fx=s, fy=s, interpolation=cv2.INTER_AREA)
-        kps, desc = self._sift.detectAndCompute(gray, None)
+        kps, desc = self._sifts[which].detectAndCompute(gray, None)
         if not kps:
             return np.zeros((0, 2)), np.zeros((0, 128), np.float32), np.zeros(0)
         pts = np.array([k.pt for k in kps], np.float64)
@@ -188,10 +212,30 @@ class SiftDetector(CandidateDetector):
 
     def detect(self, left_rect: np.ndarray, right_rect: np.ndarray, arm: ArmKeypoints | None,
                rig: StereoRig) -> Candidates:
-        """Return matched candidates in rectified pixels."""
+        """Return matched candidates in rectified pixels.
+
+        Timings of the last call are in ``last_timings_ms``: "features" (both images, concurrently
+        unless ``concurrent`` is False) and "match" (matching and the row/disparity filter).
+        """
+        t0 = time.perf_counter()
         width = left_rect.shape[1]
-        pl, dl, sl = self.features(left_rect, kept_columns(arm, "left", width, self.mask_side, self.mask_offset_px))
-        pr, dr, _ = self.features(right_rect, kept_columns(arm, "right", width, self.mask_side, self.mask_offset_px))
+        cols_l = kept_columns(arm, "left", width, self.mask_side, self.mask_offset_px)
+        cols_r = kept_columns(arm, "right", width, self.mask_side, self.mask_offset_px)
+        if self.concurrent:
+            right_job = _pool().submit(self.features, right_rect, cols_r, 1)
+            pl, dl, sl = self.features(left_rect, cols_l, 0)
+            pr, dr, _ = right_job.result()
+        else:
+            pl, dl, sl = self.features(left_rect, cols_l, 0)
+            pr, dr, _ = self.features(right_rect, cols_r, 1)
+        t1 = time.perf_counter()
+        cands = self._match(pl, dl, sl, pr, dr, rig)
+        self.last_timings_ms = {"features": (t1 - t0) * 1e3, "match": (time.perf_counter() - t1) * 1e3}
+        return cands
+
+    def _match(self, pl: np.ndarray, dl: np.ndarray, sl: np.ndarray, pr: np.ndarray, dr: np.ndarray,
+               rig: StereoRig) -> Candidates:
+        """Match left and right features; keep same-row pairs with positive disparity."""
         sign = rig.disparity_sign
         max_disp = rig.focal_px * rig.baseline_m / self.min_depth_m
         if self.matcher == "row_band":

@@ -7,7 +7,9 @@ rectify -> pose (both images) -> pose filters -> candidates (masked SIFT, matche
 from __future__ import annotations
 
 import math
+import threading
 import time
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 from typing import Mapping
 
@@ -119,7 +121,12 @@ class Perception:
     def process(self, left: np.ndarray, right: np.ndarray) -> PerceptionResult:
         """Run the whole core on an ORIGINAL (unrectified) pair."""
         t0 = time.perf_counter()
-        left_rect, right_rect = self.rig.rectify(left, right)
+        if self.rig.prerectified:
+            left_rect, right_rect = left, right
+        else:  # the two remaps run concurrently (cv2 releases the GIL)
+            right_job = _rectify_pool().submit(self.rig.rectify_image, right, "right")
+            left_rect = self.rig.rectify_image(left, "left")
+            right_rect = right_job.result()
         return self.process_rectified(left_rect, right_rect, {"rectify": (time.perf_counter() - t0) * 1e3})
 
     def process_rectified(self, left_rect: np.ndarray, right_rect: np.ndarray,
@@ -135,6 +142,10 @@ class Perception:
             return PerceptionResult(early.status, early.reason, early.arm, early.arm3d, timings_ms=tm)
         with clock("candidates"):
             cands = self.detector.detect(left_rect, right_rect, arm, self.rig)
+        split = getattr(self.detector, "last_timings_ms", None) or {}
+        if "match" in split:  # "candidates" = features (both images), "match" = matching
+            tm["match"] = tm.get("match", 0.0) + split["match"]
+            tm["candidates"] -= split["match"]
         return self.decide(early, cands, tm)
 
     def check_arm(self, arm: ArmKeypoints | None) -> PerceptionResult:
@@ -173,6 +184,19 @@ class Perception:
         xyz = triangulate(self.Q, np.c_[arm.left_px[:, 0], rows], disp)
         sigma = self.rig.depth_sigma_m(np.abs(xyz[:, 2]), math.sqrt(2.0) * self.params["selection.keypoint_sigma_px"])
         return Arm3D(xyz, np.asarray(sigma, dtype=float))
+
+
+_POOL: ThreadPoolExecutor | None = None
+_POOL_LOCK = threading.Lock()
+
+
+def _rectify_pool() -> ThreadPoolExecutor:
+    """Return the shared one-thread pool that rectifies the right image while the left one is done."""
+    global _POOL
+    with _POOL_LOCK:
+        if _POOL is None:
+            _POOL = ThreadPoolExecutor(1, thread_name_prefix="rectify")
+        return _POOL
 
 
 class _Stopwatch:
