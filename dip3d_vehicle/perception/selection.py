@@ -225,7 +225,7 @@ class DefaultSelector(PointingSelector):
 
     method = "default"
 
-    def __init__(self, model: ArmModel = ArmModel(), group_radius_px: float = 60.0, group_radius_m: float = 0.2,
+    def __init__(self, model: ArmModel = ArmModel(), group_radius_px: float = 30.0, group_radius_m: float = 0.05,
                  min_object_features: int = 3, min_confidence: float = 0.6) -> None:
         self.model = model
         self.group_radius_px, self.group_radius_m = group_radius_px, group_radius_m
