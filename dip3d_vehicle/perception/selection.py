@@ -81,13 +81,14 @@ class PaperSelector(PointingSelector):
 
 
 def group_objects(candidates: Candidates, xyz_m: np.ndarray, rig: StereoRig, radius_px: float,
-                  radius_m: float, min_features: int) -> list[ObjectCandidate]:
-    """Group matched features into objects: near in the image and compatible in depth.
+                  radius_m: float, min_features: int, object_radius_m: float = 0.15) -> list[ObjectCandidate]:
+    """Group matched features into objects: chains of neighbours, then fragments of one object.
 
-    Two features are linked when they are within ``radius_px`` in the left image and their depths
-    differ by less than max(radius_m, 3 sigma); objects are the connected groups with at least
-    ``min_features`` members. An object's centre is the median disparity triangulated at the
-    median left-image position (robust to stray matches).
+    Stage 1 links two features within ``radius_px`` in the left image whose depths differ by less
+    than max(radius_m, 3 sigma); stage 2 merges the resulting fragments whose robust 3D centres
+    are within ``object_radius_m`` (a sparse, distant placard often falls apart into pieces).
+    Objects with fewer than ``min_features`` members are dropped. An object's centre is the median
+    disparity triangulated at the median left-image position (robust to stray matches).
     """
     n = len(candidates)
     if n == 0:
@@ -99,22 +100,41 @@ def group_objects(candidates: Candidates, xyz_m: np.ndarray, rig: StereoRig, rad
         i, j = pairs[:, 0], pairs[:, 1]
         tol = np.maximum(radius_m, 3.0 * np.hypot(sig[i], sig[j]))
         pairs = pairs[np.abs(z[i] - z[j]) <= tol]
-    graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(n, n)) if len(pairs) else coo_matrix((n, n))
-    count, labels = connected_components(graph, directed=False)
+    labels = _components(n, pairs)
     Q = normalize_q(rig.Q, rig.disparity_sign)
+    groups = [np.nonzero(labels == k)[0] for k in range(labels.max() + 1)]
+    centres = np.array([_centre(candidates, Q, g)[1] for g in groups])
+    ok = np.all(np.isfinite(centres), axis=1)
+    if ok.sum() > 1:
+        idx = np.nonzero(ok)[0]
+        close = cKDTree(centres[idx]).query_pairs(object_radius_m, output_type="ndarray")
+        merged = _components(len(idx), close)
+        groups = [np.concatenate([groups[idx[k]] for k in np.nonzero(merged == m)[0]]) for m in range(merged.max() + 1)]
     out = []
-    for label in range(count):
-        members = np.nonzero(labels == label)[0]
+    for members in groups:
         if len(members) < min_features:
             continue
-        px = np.median(candidates.left_px[members], axis=0)
-        disp = float(np.median(candidates.disparity_px[members]))
-        centre = triangulate(Q, px[None], [disp])[0]
+        px, centre = _centre(candidates, Q, members)
         if not np.all(np.isfinite(centre)) or centre[2] <= 0:
             continue
         sigma = float(rig.depth_sigma_m(centre[2], max(1.25 * MATCH_SIGMA_PX / math.sqrt(len(members)), 0.1)))
         out.append(ObjectCandidate(px, centre, sigma, tuple(int(m) for m in members)))
     return out
+
+
+def _components(n: int, pairs: np.ndarray) -> np.ndarray:
+    """Return connected-component labels of n nodes linked by (k, 2) index pairs."""
+    if len(pairs) == 0:
+        return np.arange(n)
+    graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(n, n))
+    return connected_components(graph, directed=False)[1]
+
+
+def _centre(candidates: Candidates, Q: np.ndarray, members: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Return (median left px, triangulated centre) of a group of features."""
+    px = np.median(candidates.left_px[members], axis=0)
+    disp = float(np.median(candidates.disparity_px[members]))
+    return px, triangulate(Q, px[None], [disp])[0]
 
 
 @dataclass(frozen=True)
@@ -226,8 +246,9 @@ class DefaultSelector(PointingSelector):
     method = "default"
 
     def __init__(self, model: ArmModel = ArmModel(), group_radius_px: float = 30.0, group_radius_m: float = 0.05,
-                 min_object_features: int = 3, min_confidence: float = 0.6) -> None:
+                 min_object_features: int = 3, min_confidence: float = 0.6, object_radius_m: float = 0.15) -> None:
         self.model = model
+        self.object_radius_m = object_radius_m
         self.group_radius_px, self.group_radius_m = group_radius_px, group_radius_m
         self.min_object_features, self.min_confidence = min_object_features, min_confidence
 
@@ -235,7 +256,7 @@ class DefaultSelector(PointingSelector):
                rig: StereoRig) -> Selection:
         """Group candidates into objects, fit the pointing hypothesis for each, return the posterior."""
         objects = group_objects(candidates, xyz_m, rig, self.group_radius_px, self.group_radius_m,
-                                self.min_object_features)
+                                self.min_object_features, self.object_radius_m)
         if not objects:
             return Selection(None, (), np.zeros(0), 0.0, math.inf, self.method, True)
         rows = (arm.left_px[:, 1] + arm.right_px[:, 1]) / 2.0
@@ -266,4 +287,4 @@ def make_selector(params: Mapping) -> PointingSelector:
         return PaperSelector(params["selection.extension_factor"])
     return DefaultSelector(arm_model_from_params(params), params["selection.group_radius_px"],
                            params["selection.group_radius_m"], params["selection.min_object_features"],
-                           params["selection.min_confidence"])
+                           params["selection.min_confidence"], params["selection.object_radius_m"])

@@ -1,0 +1,131 @@
+"""Selectors: the paper's rule on hand-computed cases; the default selector's direction awareness."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from dip3d_vehicle.config import load_params
+from dip3d_vehicle.perception.calibration import StereoRig
+from dip3d_vehicle.perception.pipeline import Perception
+from dip3d_vehicle.perception.selection import DefaultSelector, PaperSelector, paper_distances
+from dip3d_vehicle.perception.triangulation import normalize_q, triangulate
+from dip3d_vehicle.perception.values import ArmKeypoints, Candidates
+
+K = np.array([[1000.0, 0, 800], [0, 1000.0, 600], [0, 0, 1]])
+RIG = StereoRig.from_parameters(K, np.zeros(5), K, np.zeros(5), np.eye(3), [-0.12, 0, 0], (1600, 1200))
+
+
+def project(xyz: np.ndarray, tx: float = 0.0) -> np.ndarray:
+    """Project rectified-frame points (m) to pixels of the left (tx=0) or right (tx=-B) camera."""
+    p = (np.atleast_2d(xyz) + [tx, 0, 0]) @ K.T
+    return p[:, :2] / p[:, 2:]
+
+
+def arm_from_3d(joints: np.ndarray) -> ArmKeypoints:
+    """Return exact keypoints of 3D joints (rows shoulder, elbow, wrist) in both images."""
+    return ArmKeypoints("right", project(joints), project(joints, -0.12), np.ones(3), np.ones(3))
+
+
+def cluster(centre: np.ndarray, n: int = 12, half: float = 0.1, seed: int = 0) -> np.ndarray:
+    """Return n points on a square patch (facing the camera) around centre, metres."""
+    rng = np.random.default_rng(seed)
+    return centre + np.c_[rng.uniform(-half, half, (n, 2)), np.zeros(n)]
+
+
+def candidates_of(points: np.ndarray) -> tuple[Candidates, np.ndarray]:
+    """Return exact candidates (both images) and their triangulated xyz."""
+    c = Candidates(project(points), project(points, -0.12))
+    return c, triangulate(normalize_q(RIG.Q, RIG.disparity_sign), c.left_px, c.disparity_px)
+
+
+def test_paper_distance_hand_computed():
+    """w=(0,0,2), e=(-0.3,0,2): ext=(0.9,0,2); the line is the x axis at z=2."""
+    w, e = np.array([0.0, 0, 2]), np.array([-0.3, 0, 2])
+    pts = np.array([[2.0, 0.5, 2.0], [1.0, 0.0, 2.3], [-5.0, 0.1, 2.0]])
+    d = paper_distances(w, e, pts, 3.0)
+    assert d == pytest.approx([0.5, 0.3, 0.1])
+
+
+def test_paper_selector_picks_argmin_feature():
+    """The paper's selector returns the single feature nearest the infinite line."""
+    joints = np.array([[-0.6, 0, 2.0], [-0.3, 0, 2.0], [0.0, 0, 2.0]])
+    pts = np.array([[1.0, 0.3, 2.0], [1.5, 0.05, 2.0], [2.0, -0.2, 2.0]])
+    cands, xyz = candidates_of(pts)
+    arm = arm_from_3d(joints)
+    arm3d = Perception(RIG, load_params("paper"), None, detector=object()).triangulate_arm(arm)
+    sel = PaperSelector(3.0).select(arm, arm3d, cands, xyz, RIG)
+    assert sel.index == 1
+    assert sel.scores == pytest.approx([0.3, 0.05, 0.2], abs=1e-6)
+    assert sel.ambiguity_margin == pytest.approx(0.15, abs=1e-6)
+    assert sel.method == "paper"
+
+
+def _distractor_scene():
+    """Arm pointing right (+x); target ahead of the wrist; distractor on the backward extension."""
+    shoulder = np.array([-0.2, 0.0, 2.5])
+    u = np.array([1.0, 0.0, 0.15])
+    u /= np.linalg.norm(u)
+    joints = np.array([shoulder, shoulder + 0.3 * u, shoulder + 0.58 * u])
+    target = shoulder + 1.6 * u + np.array([0.0, 0.06, 0.0])       # ~2 deg off the arm, ahead
+    distractor = shoulder - 0.9 * u + np.array([0.0, 0.01, 0.0])   # behind the shoulder, on the line
+    pts = np.vstack([cluster(target, seed=1), cluster(distractor, seed=2)])
+    labels = np.r_[np.zeros(12, int), np.ones(12, int)]
+    return arm_from_3d(joints), pts, labels
+
+
+def test_default_picks_object_ahead_where_paper_picks_distractor_behind():
+    """With a distractor on the line's backward extension the paper's rule picks it; ours does not."""
+    arm, pts, labels = _distractor_scene()
+    cands, xyz = candidates_of(pts)
+    p_paper, p_default = load_params("paper"), load_params("default")
+    arm3d = Perception(RIG, p_default, None, detector=object()).triangulate_arm(arm)
+    paper = PaperSelector(3.0).select(arm, arm3d, cands, xyz, RIG)
+    assert labels[paper.index] == 1, "the paper's rule should choose the distractor (nearest the infinite line)"
+    default = Perception(RIG, p_default, None, detector=object()).selector.select(arm, arm3d, cands, xyz, RIG)
+    members = list(default.target.members)
+    assert np.all(labels[members] == 0)
+    assert default.confidence > 0.95 and not default.ambiguous
+    assert p_paper["selection.method"] == "paper"
+
+
+def test_default_groups_features_into_objects_with_robust_centre():
+    """Two placards become two objects; one stray match does not move a centre."""
+    a, b = np.array([0.5, 0.0, 2.0]), np.array([1.2, 0.2, 3.0])
+    pts = np.vstack([cluster(a, 20, seed=3), cluster(b, 20, seed=4)])
+    cands, xyz = candidates_of(pts)
+    xyz[0, 2] += 0.8  # a gross depth error on one feature
+    from dip3d_vehicle.perception.selection import group_objects
+    objs = group_objects(cands, xyz, RIG, 60.0, 0.05, 3)
+    assert len(objs) == 2
+    centres = sorted(o.xyz_m[2] for o in objs)
+    assert centres == pytest.approx([2.0, 3.0], abs=0.02)
+
+
+def test_default_reports_ambiguity_for_two_objects_on_the_ray():
+    """Two objects both within the pointing spread: low confidence, flagged ambiguous."""
+    shoulder = np.array([-0.2, 0.0, 2.0])
+    u = np.array([1.0, 0.0, 0.0])
+    joints = np.array([shoulder, shoulder + 0.3 * u, shoulder + 0.58 * u])
+    a = shoulder + 1.5 * u + np.array([0, 0.15, 0])
+    b = shoulder + 1.5 * u + np.array([0, -0.15, 0.05])
+    pts = np.vstack([cluster(a, 12, 0.04, seed=5), cluster(b, 12, 0.04, seed=6)])
+    cands, xyz = candidates_of(pts)
+    arm = arm_from_3d(joints)
+    sel = DefaultSelector(group_radius_px=10.0, min_confidence=0.9)
+    arm3d = Perception(RIG, load_params(), None, detector=object()).triangulate_arm(arm)
+    out = sel.select(arm, arm3d, cands, xyz, RIG)
+    assert len(out.objects) == 2
+    assert out.ambiguous and out.confidence < 0.9
+    assert math.isfinite(out.ambiguity_margin)
+
+
+def test_no_objects_gives_no_target():
+    """With no candidates at all both selectors return no index."""
+    arm, _, _ = _distractor_scene()
+    arm3d = Perception(RIG, load_params(), None, detector=object()).triangulate_arm(arm)
+    empty = Candidates.empty()
+    for sel in (PaperSelector(), DefaultSelector()):
+        assert sel.select(arm, arm3d, empty, np.zeros((0, 3)), RIG).index is None
