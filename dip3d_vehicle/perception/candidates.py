@@ -12,7 +12,8 @@ from __future__ import annotations
 import threading
 import time
 from abc import ABC, abstractmethod
-from concurrent.futures import ThreadPoolExecutor
+from concurrent.futures import Future, ThreadPoolExecutor
+from dataclasses import dataclass
 from typing import Mapping
 
 import cv2
@@ -26,6 +27,9 @@ __all__ = ["CandidateDetector", "SiftDetector", "match_bruteforce", "match_row_b
 # A lone row-band neighbour (no second one for the ratio test) is accepted only if it is this close
 # (SIFT descriptors are L2-normalised to 512; good matches are typically well under 200).
 _LONE_MATCH_MAX_DIST = 180.0
+
+# Up to this many left x right feature pairs, row-band matching is one vectorised distance matrix.
+_ONE_SHOT_PAIRS = 1_000_000
 
 _POOL: ThreadPoolExecutor | None = None
 _POOL_LOCK = threading.Lock()
@@ -104,6 +108,10 @@ def match_row_band(pts_l: np.ndarray, desc_l: np.ndarray, pts_r: np.ndarray, des
     """
     if len(pts_l) == 0 or len(pts_r) == 0:
         return np.zeros(0, np.int64), np.zeros(0, np.int64)
+    if len(pts_l) * len(pts_r) <= _ONE_SHOT_PAIRS:
+        # Few features: one masked distance matrix (the same constraint as the bands, no Python loop).
+        q, t = _band_matches(pts_l, desc_l, pts_r, desc_r, ratio, row_tol_px, disp_range, disparity_sign)
+        return _unique_right(q, t)
     band = max(2.0 * row_tol_px, 1.0)
     order_r = np.argsort(pts_r[:, 1], kind="stable")
     yr = pts_r[order_r, 1]
@@ -157,6 +165,17 @@ def _band_matches(pl, dl, pr, dr, ratio, row_tol_px, disp_range, sign) -> tuple[
     return np.nonzero(keep)[0], best[keep]
 
 
+@dataclass
+class _Prefetch:
+    """Features being computed ahead of ``detect`` (see ``SiftDetector.prefetch``)."""
+
+    left: np.ndarray
+    right: np.ndarray
+    cols_l: tuple[int, int]
+    cols_r: tuple[int, int]
+    jobs: tuple[Future, Future]
+
+
 class SiftDetector(CandidateDetector):
     """The paper's detector: SIFT on the masked region, k-NN matching, ratio test, row filter."""
 
@@ -177,6 +196,7 @@ class SiftDetector(CandidateDetector):
         self.concurrent = True
         self.last_counts: dict[str, int] = {}
         self.last_timings_ms: dict[str, float] = {}
+        self._prefetched: _Prefetch | None = None
 
     @classmethod
     def from_params(cls, params: Mapping) -> "SiftDetector":
@@ -210,18 +230,69 @@ class SiftDetector(CandidateDetector):
         sizes = np.array([k.size for k in kps], np.float64) / s
         return pts, desc.astype(np.float32), sizes
 
+    def prefetch(self, left_rect: np.ndarray, right_rect: np.ndarray, arm_hint: ArmKeypoints,
+                 margin_px: float = 80.0) -> None:
+        """Start computing this pair's features in the background, in columns predicted by ``arm_hint``.
+
+        For frame sequences: the previous frame's arm predicts the kept columns (widened by
+        ``margin_px``), so the features are computed while the pose runs. ``detect`` on the same
+        two arrays uses them when the real kept columns lie inside the predicted ones (features
+        outside the real columns are dropped), and computes afresh otherwise.
+        """
+        self.cancel_prefetch()
+        width = left_rect.shape[1]
+        cols = []
+        for side in ("left", "right"):
+            x0, x1 = kept_columns(arm_hint, side, width, self.mask_side, self.mask_offset_px)
+            cols.append((int(max(0, x0 - margin_px if x0 > 0 else 0)),
+                         int(min(width, x1 + margin_px if x1 < width else width))))
+        jobs = (_pool().submit(self.features, left_rect, cols[0], 0),
+                _pool().submit(self.features, right_rect, cols[1], 1))
+        self._prefetched = _Prefetch(left_rect, right_rect, cols[0], cols[1], jobs)
+
+    def cancel_prefetch(self) -> None:
+        """Forget a prefetch (waits for its jobs: they hold the SIFT objects)."""
+        pending, self._prefetched = self._prefetched, None
+        if pending is not None:
+            for job in pending.jobs:
+                job.result()
+
+    def _take_prefetch(self, left_rect: np.ndarray, right_rect: np.ndarray, cols_l: tuple[int, int],
+                       cols_r: tuple[int, int]):
+        """Return prefetched ((pl, dl, sl), (pr, dr, sr)) cut to the kept columns, or None."""
+        pending, self._prefetched = self._prefetched, None
+        if pending is None:
+            return None
+        results = [job.result() for job in pending.jobs]
+        if pending.left is not left_rect or pending.right is not right_rect:
+            return None
+        out = []
+        for (x0, x1), (px0, px1), (pts, desc, sizes) in zip((cols_l, cols_r), (pending.cols_l, pending.cols_r), results):
+            if x1 - x0 < 8:
+                out.append((np.zeros((0, 2)), np.zeros((0, 128), np.float32), np.zeros(0)))
+                continue
+            if x0 < px0 or x1 > px1:
+                return None
+            keep = (pts[:, 0] >= x0) & (pts[:, 0] < x1) if len(pts) else np.zeros(0, bool)
+            out.append((pts[keep], desc[keep], sizes[keep]))
+        return out
+
     def detect(self, left_rect: np.ndarray, right_rect: np.ndarray, arm: ArmKeypoints | None,
                rig: StereoRig) -> Candidates:
         """Return matched candidates in rectified pixels.
 
         Timings of the last call are in ``last_timings_ms``: "features" (both images, concurrently
-        unless ``concurrent`` is False) and "match" (matching and the row/disparity filter).
+        unless ``concurrent`` is False; only the wait when they were prefetched) and "match"
+        (matching and the row/disparity filter).
         """
         t0 = time.perf_counter()
         width = left_rect.shape[1]
         cols_l = kept_columns(arm, "left", width, self.mask_side, self.mask_offset_px)
         cols_r = kept_columns(arm, "right", width, self.mask_side, self.mask_offset_px)
-        if self.concurrent:
+        ready = self._take_prefetch(left_rect, right_rect, cols_l, cols_r)
+        if ready is not None:
+            (pl, dl, sl), (pr, dr, _) = ready
+        elif self.concurrent:
             right_job = _pool().submit(self.features, right_rect, cols_r, 1)
             pl, dl, sl = self.features(left_rect, cols_l, 0)
             pr, dr, _ = right_job.result()
@@ -230,6 +301,7 @@ class SiftDetector(CandidateDetector):
             pr, dr, _ = self.features(right_rect, cols_r, 1)
         t1 = time.perf_counter()
         cands = self._match(pl, dl, sl, pr, dr, rig)
+        self.last_counts["prefetched"] = int(ready is not None)
         self.last_timings_ms = {"features": (t1 - t0) * 1e3, "match": (time.perf_counter() - t1) * 1e3}
         return cands
 

@@ -117,6 +117,10 @@ class Perception:
         self.detector = detector or SiftDetector.from_params(params)
         self.selector = selector or make_selector(params)
         self.Q = normalize_q(rig.Q, rig.disparity_sign)
+        # With pose tracking the frames are a sequence: the previous frame's arm predicts where the
+        # candidates' features are, so they are computed while the pose runs (SiftDetector.prefetch).
+        self.overlap = params.get("pose.backend") == "blazepose" and bool(params.get("blazepose.tracking"))
+        self._last_arm: ArmKeypoints | None = None
 
     def process(self, left: np.ndarray, right: np.ndarray) -> PerceptionResult:
         """Run the whole core on an ORIGINAL (unrectified) pair."""
@@ -134,11 +138,17 @@ class Perception:
         """Run the core on an already rectified pair."""
         tm = dict(timings or {})
         clock = _Stopwatch(tm)
+        prefetch = getattr(self.detector, "prefetch", None) if self.overlap else None
+        if prefetch is not None and self._last_arm is not None:
+            prefetch(left_rect, right_rect, self._last_arm)
         with clock("pose"):
             arm = self.pose.estimate(left_rect, right_rect, self.rig)
         with clock("triangulate"):
             early = self.check_arm(arm)
+        self._last_arm = early.arm if early.status == "ok" else None
         if early.status != "ok":
+            if prefetch is not None:
+                self.detector.cancel_prefetch()
             return PerceptionResult(early.status, early.reason, early.arm, early.arm3d, timings_ms=tm)
         with clock("candidates"):
             cands = self.detector.detect(left_rect, right_rect, arm, self.rig)

@@ -1,0 +1,450 @@
+"""Perception speed benchmark: the parameter profiles on the same stereo frames, in one process.
+
+For every profile (``paper`` first, then the project's profiles) the perception core runs on the
+same sequence of stereo frames (rendered by the simulator, or read from a folder with its
+calibration) and the report gives: frames per second end-to-end (frames / summed wall time of
+``Perception.process``, one frame after another), each stage's median and p99 (rectify, pose,
+candidates = features, match, triangulate, select), end-to-end latency p50/p99, peak memory,
+selection accuracy and the ratio of each profile's frame rate to ``paper``'s.
+
+Pose: every profile's pose backend is BlazePose, timed for real on every frame (``paper`` runs it
+as the paper ran MediaPipe: detection on both images every frame, no tracking). The simulator's
+diver is a cartoon that BlazePose does not always find; on such frames the rest of the pipeline
+uses the simulator's noisy truth keypoints (``meta["keypoints"]``), and the report counts which
+frames used which (``pose_source``). The hybrid is ``BenchPose`` below, not a pose backend.
+
+Accuracy (simulated frames): a frame is correct when the selected target's left-image point
+(original pixels) lies inside the intended placard's polygon (``meta["placards"][id]``).
+
+Memory: peak resident set size (Linux ``VmHWM``) while the profile runs, reset before each profile
+through ``/proc/self/clear_refs``; reported absolute and above the RSS at the profile's start.
+Where the reset is not available the process's ``ru_maxrss`` is reported (monotonic).
+
+Latency (``latency_run``): frames arrive at the camera rate into a ``PerceptionWorker`` (newest
+frame wins); a setpoint tick at ``setpoint_hz`` consumes the newest result; frame-to-setpoint
+latency = send time of the first setpoint using a result - capture time of its frame.
+"""
+
+from __future__ import annotations
+
+import gc
+import math
+import resource
+import threading
+import time
+from dataclasses import dataclass, field
+from typing import Any, Iterable, Mapping, Sequence
+
+import cv2
+import numpy as np
+
+from .config import load_params
+from .frames import StereoFrame
+from .perception.calibration import StereoRig
+from .perception.keypoints_file import GivenKeypoints
+from .perception.pipeline import Perception, make_pose_estimator
+from .perception.pose import PoseEstimator
+from .perception.values import ArmKeypoints
+from .worker import PerceptionWorker
+
+__all__ = ["BenchPose", "BenchFrames", "simulated_frames", "folder_frames", "run_profile", "run_bench",
+           "latency_run", "format_table", "STAGES", "PAPER_STATIC_POSE"]
+
+STAGES = ("rectify", "pose", "candidates", "match", "triangulate", "select")
+"""Stages reported, in pipeline order (candidates = feature extraction, match = matching)."""
+
+PAPER_STATIC_POSE = {"pose.backend": "blazepose", "blazepose.tracking": False, "blazepose.stereo_search": "detect"}
+"""Overrides for ``paper``: BlazePose detection on both images every frame (MediaPipe static mode)."""
+
+TRACKING_POSE = {"pose.backend": "blazepose"}
+"""Overrides for the project's profiles: BlazePose with their own tracking / stereo-search settings."""
+
+
+# ---------------------------------------------------------------------------------------------
+# Frames
+
+
+@dataclass
+class BenchFrames:
+    """A sequence of stereo frames with their rig; ``sequences`` marks where tracking restarts."""
+
+    rig: StereoRig
+    frames: list[StereoFrame]
+    sequences: list[int]                 # index of the first frame of each sequence
+    description: str
+
+    def __len__(self) -> int:
+        return len(self.frames)
+
+
+def simulated_frames(scenario: str = "paper_pool", seeds: Sequence[int] = (1, 2, 3, 4),
+                     frames_per_seed: int = 10, rate_hz: float = 10.0, start_s: float = 1.2,
+                     approach_m_s: float = 0.1, size: tuple[int, int] | None = None) -> BenchFrames:
+    """Render ``frames_per_seed`` frames at ``rate_hz`` per seed: the vehicle creeps toward the placards.
+
+    Args:
+        scenario: built-in scenario name or file.
+        seeds: one sequence per seed (diver position, target, noise vary with the seed).
+        frames_per_seed: frames per sequence.
+        rate_hz: camera rate (scenario time between frames = 1 / rate_hz).
+        start_s: scenario time of the first frame (the diver points from ``diver.start_s``).
+        approach_m_s: forward speed of the vehicle (a servoing-like slow approach), m/s.
+        size: (width, height) to render at instead of the scenario's camera (tests); the focal
+            length and principal point are scaled with it.
+    """
+    from sitl.render import StereoRenderer
+    from sitl.scenario import load_scenario
+
+    frames: list[StereoFrame] = []
+    starts: list[int] = []
+    rig = None
+    for seed in seeds:
+        sc = _resized(load_scenario(scenario, seed), size)
+        rig = sc.rig()
+        v = sc.initial_vehicle_pose
+        starts.append(len(frames))
+        with StereoRenderer(sc) as renderer:
+            for k in range(frames_per_seed):
+                t = start_s + k / rate_hz
+                north = v.north_m + approach_m_s * k / rate_hz * math.cos(v.yaw_rad)
+                east = v.east_m + approach_m_s * k / rate_hz * math.sin(v.yaw_rad)
+                yaw = v.yaw_rad + 0.02 * math.sin(0.7 * t)
+                frames.append(renderer.render(north, east, v.depth_m, yaw, t))
+    w, h = rig.image_size
+    return BenchFrames(rig, frames, starts, f"simulator {scenario}, seeds {list(seeds)}, {frames_per_seed} frames "
+                       f"each at {rate_hz:g} Hz, {w}x{h}")
+
+
+def _resized(sc: Any, size: tuple[int, int] | None) -> Any:
+    """Return the scenario with its camera scaled to ``size`` (None: unchanged)."""
+    if size is None:
+        return sc
+    import dataclasses
+
+    cam = sc.camera
+    s = size[0] / cam.image_size[0]
+    new_cam = dataclasses.replace(cam, image_size=(int(size[0]), int(size[1])), fx=cam.fx * s, fy=cam.fy * s,
+                                  cx=(cam.cx + 0.5) * s - 0.5, cy=(cam.cy + 0.5) * s - 0.5)
+    return dataclasses.replace(sc, camera=new_cam)
+
+
+def folder_frames(spec: str, calib: str | Sequence[str], max_frames: int = 0) -> BenchFrames:
+    """Read a folder (or any ``open_source`` spec) of stereo pairs with its calibration (no accuracy)."""
+    from .perception.calibration_io import load_rig
+    from .sources import open_source
+
+    rig = load_rig(calib)
+    frames = []
+    with open_source(spec) as source:
+        for frame in source:
+            frames.append(frame)
+            if max_frames and len(frames) >= max_frames:
+                break
+    return BenchFrames(rig, frames, [0], f"{spec} ({len(frames)} frames)")
+
+
+# ---------------------------------------------------------------------------------------------
+# The bench's pose: BlazePose timed for real, simulator truth where it finds nobody
+
+
+class BenchPose(PoseEstimator):
+    """BlazePose on every frame; the frame's given keypoints when BlazePose finds no person.
+
+    ``provide(keypoints)`` before each frame (None when the source has none). ``last_source`` is
+    "blazepose", "truth" or "none"; ``counts`` sums them.
+    """
+
+    name = "bench"
+
+    def __init__(self, backend: PoseEstimator, arm: str) -> None:
+        self.backend = backend
+        self.given = GivenKeypoints(arm)
+        self.last_source = "none"
+        self.counts = {"blazepose": 0, "truth": 0, "none": 0}
+
+    def provide(self, keypoints: dict | None) -> None:
+        """Set the fallback keypoints of the next frame."""
+        self.given.provide(keypoints)
+
+    def estimate(self, left_rect: np.ndarray, right_rect: np.ndarray, rig: StereoRig) -> ArmKeypoints | None:
+        """Return BlazePose's arm, else the given keypoints (rectified pixels), else None."""
+        arm = self.backend.estimate(left_rect, right_rect, rig)
+        if arm is None:
+            arm = self.given.estimate(left_rect, right_rect, rig)
+            self.last_source = "truth" if arm is not None else "none"
+        else:
+            self.last_source = "blazepose"
+        self.counts[self.last_source] += 1
+        return arm
+
+    def reset(self) -> None:
+        """Forget the backend's tracking state."""
+        self.backend.reset()
+
+
+# ---------------------------------------------------------------------------------------------
+# Measuring one profile
+
+
+def profile_params(profile: str, overrides: Mapping[str, Any] | None = None):
+    """Return a profile's parameters with the bench's pose overrides (BlazePose everywhere)."""
+    sets = dict(PAPER_STATIC_POSE if profile == "paper" else TRACKING_POSE)
+    sets.update(overrides or {})
+    return load_params(profile, (), sets)
+
+
+def make_perception(profile: str, rig: StereoRig, overrides: Mapping[str, Any] | None = None
+                    ) -> tuple[Perception, BenchPose]:
+    """Return the profile's perception core with the bench's hybrid pose."""
+    params = profile_params(profile, overrides)
+    pose = BenchPose(make_pose_estimator(params), params["pose.arm"])
+    return Perception(rig, params, pose), pose
+
+
+def frame_correct(result_json: Mapping[str, Any], meta: Mapping[str, Any]) -> bool | None:
+    """Return whether the chosen target lies in the intended placard (None: no ground truth)."""
+    placards = meta.get("placards")
+    if not placards or meta.get("target_id") is None:
+        return None
+    target = result_json.get("target")
+    poly = placards[meta["target_id"]].get("left_polygon_px")
+    if target is None or poly is None or None in target["left_px"]:
+        return False
+    x, y = target["left_px"]
+    return cv2.pointPolygonTest(np.asarray(poly, np.float32).reshape(-1, 1, 2), (float(x), float(y)), False) >= 0
+
+
+def _pct(values: Iterable[float], q: float) -> float | None:
+    arr = np.asarray(list(values), float)
+    return None if arr.size == 0 else round(float(np.percentile(arr, q)), 2)
+
+
+class _PeakMemory:
+    """Peak RSS (VmHWM) while a block runs, reset before it where Linux allows; MiB."""
+
+    def __init__(self) -> None:
+        self.method = "VmHWM (reset via /proc/self/clear_refs)"
+
+    @staticmethod
+    def _status(key: str) -> float | None:
+        try:
+            with open("/proc/self/status") as f:
+                for line in f:
+                    if line.startswith(key + ":"):
+                        return int(line.split()[1]) / 1024.0
+        except OSError:
+            return None
+        return None
+
+    def __enter__(self) -> "_PeakMemory":
+        gc.collect()
+        try:
+            with open("/proc/self/clear_refs", "w") as f:
+                f.write("5")
+        except OSError:
+            self.method = "ru_maxrss (process peak, not reset per profile)"
+        self.start_mib = self._status("VmRSS")
+        return self
+
+    def __exit__(self, *exc) -> None:
+        peak = self._status("VmHWM")
+        if peak is None or self.method.startswith("ru_maxrss"):
+            peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
+        self.peak_mib = peak
+
+
+def run_profile(profile: str, data: BenchFrames, overrides: Mapping[str, Any] | None = None,
+                warmup: bool = True) -> dict:
+    """Run one profile over every frame; return its measurements (see the module doc)."""
+    perception, pose = make_perception(profile, data.rig, overrides)
+    if warmup and data.frames:  # first-run allocations (onnxruntime, OpenCV) are not the frame rate
+        f = data.frames[-1]
+        pose.provide(f.meta.get("keypoints"))
+        perception.process(f.left, f.right)
+        pose.reset()
+        pose.counts = dict.fromkeys(pose.counts, 0)
+    starts = set(data.sequences)
+    wall, stages, sources, statuses, correct = [], {s: [] for s in STAGES}, [], {}, []
+    cpu0 = time.process_time()
+    with _PeakMemory() as mem:
+        for i, frame in enumerate(data.frames):
+            if i in starts:
+                pose.reset()
+            pose.provide(frame.meta.get("keypoints"))
+            t0 = time.perf_counter()
+            result = perception.process(frame.left, frame.right)
+            wall.append((time.perf_counter() - t0) * 1e3)
+            for s in STAGES:
+                if s in result.timings_ms:
+                    stages[s].append(result.timings_ms[s])
+            sources.append(pose.last_source)
+            statuses[result.status] = statuses.get(result.status, 0) + 1
+            ok = frame_correct(result.to_json(data.rig), frame.meta)
+            if ok is not None:
+                correct.append(ok)
+    cpu_ms = (time.process_time() - cpu0) * 1e3
+    total_s = sum(wall) / 1e3
+    p = perception.params
+    return {
+        "profile": profile,
+        "frames": len(wall),
+        "fps": round(len(wall) / total_s, 3) if total_s > 0 else None,
+        "cpu_ms_per_frame": round(cpu_ms / max(len(wall), 1), 1),
+        "latency_ms": {"p50": _pct(wall, 50), "p99": _pct(wall, 99), "max": _pct(wall, 100)},
+        "stages_ms": {s: {"median": _pct(v, 50), "p99": _pct(v, 99), "frames": len(v)} for s, v in stages.items()},
+        "peak_rss_mib": round(mem.peak_mib, 1), "rss_at_start_mib": round(mem.start_mib or 0.0, 1),
+        "memory_method": mem.method,
+        "accuracy": None if not correct else round(sum(correct) / len(correct), 4),
+        "correct": int(sum(correct)), "scored_frames": len(correct),
+        "status": statuses,
+        "pose_source": dict(pose.counts),
+        "pose_settings": {"tracking": p["blazepose.tracking"], "stereo_search": p["blazepose.stereo_search"],
+                          "threads": p["blazepose.threads"]},
+        "candidates_settings": {k: p[f"candidates.{k}"] for k in ("matcher", "image_scale", "max_features")},
+        "selection": p["selection.method"],
+    }
+
+
+def run_bench(data: BenchFrames, profiles: Sequence[str] = ("paper", "default", "fast"),
+              latency_profile: str | None = "fast", latency_s: float = 10.0) -> dict:
+    """Run every profile on the same frames; add each one's fps ratio to ``paper``'s."""
+    out = {"frames": data.description, "n_frames": len(data), "cpu_count": _cpus(),
+           "load_average_1min_at_start": round(_load(), 2), "profiles": {}}
+    for name in profiles:
+        out["profiles"][name] = run_profile(name, data)
+    base = out["profiles"].get("paper", {}).get("fps")
+    for res in out["profiles"].values():
+        res["fps_ratio_to_paper"] = round(res["fps"] / base, 2) if base and res["fps"] else None
+    if latency_profile:
+        out["latency"] = latency_run(latency_profile, data, duration_s=latency_s)
+    out["load_average_1min_at_end"] = round(_load(), 2)
+    return out
+
+
+def _cpus() -> int:
+    import os
+
+    return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
+
+
+def _load() -> float:
+    import os
+
+    try:
+        return os.getloadavg()[0]
+    except OSError:
+        return float("nan")
+
+
+# ---------------------------------------------------------------------------------------------
+# Frame-to-setpoint latency through a newest-frame-wins worker
+
+
+def latency_run(profile: str, data: BenchFrames, camera_hz: float = 10.0, setpoint_hz: float = 20.0,
+                duration_s: float = 10.0, max_age_s: float = 0.5) -> dict:
+    """Stream frames at ``camera_hz`` into a PerceptionWorker; a ``setpoint_hz`` tick uses the newest result.
+
+    Frames are pre-rendered (a camera costs the computer nothing) and cycled. The setpoint tick
+    sends a (mock) setpoint every period whatever perception is doing; ``latency`` is, per result,
+    the send time of the first setpoint built from it minus its frame's capture time; ``age`` is the
+    age of the result behind every setpoint sent.
+    """
+    perception, pose = make_perception(profile, data.rig)
+    f0 = data.frames[0]
+    pose.provide(f0.meta.get("keypoints"))
+    perception.process(f0.left, f0.right)  # warm-up
+    pose.reset()
+
+    def process(frame: StereoFrame):
+        pose.provide(frame.meta.get("keypoints"))
+        return perception.process(frame.left, frame.right)
+
+    clock = time.monotonic
+    worker = PerceptionWorker(process, max_age_s=max_age_s, clock=clock).start()
+    stop = threading.Event()
+
+    def camera() -> None:
+        period, k, t_next = 1.0 / camera_hz, 0, clock()
+        while not stop.is_set():
+            frame = data.frames[k % len(data.frames)]
+            worker.submit(frame, clock())
+            k += 1
+            t_next += period
+            stop.wait(max(0.0, t_next - clock()))
+
+    cam = threading.Thread(target=camera, name="camera", daemon=True)
+    latencies, ages, ticks, empty, tick_late = [], [], 0, 0, []
+    period, t_end = 1.0 / setpoint_hz, clock() + duration_s
+    cam.start()
+    t_next = clock()
+    while clock() < t_end:
+        t_next += period
+        delay = t_next - clock()
+        if delay > 0:
+            time.sleep(delay)
+        now = clock()
+        tick_late.append((now - t_next) * 1e3)
+        new = worker.take_new()
+        ticks += 1
+        if new is not None:
+            latencies.append((now - new.stamp_s) * 1e3)
+        found = worker.latest()
+        if found is None:
+            empty += 1
+        else:
+            ages.append((now - found[1]) * 1e3)
+    stop.set()
+    cam.join()
+    worker.stop()
+    c = worker.counters
+    return {"profile": profile, "camera_hz": camera_hz, "setpoint_hz": setpoint_hz, "duration_s": duration_s,
+            "frame_to_setpoint_ms": {"p50": _pct(latencies, 50), "p99": _pct(latencies, 99),
+                                     "max": _pct(latencies, 100), "results": len(latencies)},
+            "setpoint_result_age_ms": {"p50": _pct(ages, 50), "p99": _pct(ages, 99)},
+            "setpoints_sent": ticks, "setpoints_without_result": empty,
+            "setpoint_tick_lateness_ms": {"p50": _pct(tick_late, 50), "p99": _pct(tick_late, 99)},
+            "frames_submitted": c.submitted, "frames_processed": c.processed,
+            "frames_dropped": c.dropped_frames, "stale_results": c.stale_results, "errors": c.errors}
+
+
+# ---------------------------------------------------------------------------------------------
+# Text report
+
+
+def format_table(report: Mapping[str, Any]) -> str:
+    """Return the human-readable report."""
+    lines = [f"frames: {report['frames']}",
+             f"cpus: {report['cpu_count']}  load average (1 min) at start {report['load_average_1min_at_start']}, "
+             f"at end {report.get('load_average_1min_at_end')}"]
+    head = (f"{'profile':<10}{'fps':>8}{'x paper':>9}{'p50 ms':>9}{'p99 ms':>9}{'cpu ms':>9}{'peak MiB':>10}"
+            f"{'accuracy':>10}  pose source")
+    lines += ["", head, "-" * len(head)]
+    for name, r in report["profiles"].items():
+        acc = "n/a" if r["accuracy"] is None else f"{r['correct']}/{r['scored_frames']}"
+        src = ", ".join(f"{k} {v}" for k, v in r["pose_source"].items() if v)
+        lines.append(f"{name:<10}{r['fps']:>8.2f}{_fmt(r['fps_ratio_to_paper']):>9}{_fmt(r['latency_ms']['p50']):>9}"
+                     f"{_fmt(r['latency_ms']['p99']):>9}{_fmt(r['cpu_ms_per_frame']):>9}{r['peak_rss_mib']:>10.0f}"
+                     f"{acc:>10}  {src}")
+    lines += ["", "stage ms, median / p99"]
+    lines.append(f"{'profile':<10}" + "".join(f"{s:>18}" for s in STAGES))
+    for name, r in report["profiles"].items():
+        cells = "".join(f"{_fmt(r['stages_ms'][s]['median']) + ' / ' + _fmt(r['stages_ms'][s]['p99']):>18}"
+                        for s in STAGES)
+        lines.append(f"{name:<10}{cells}")
+    lat = report.get("latency")
+    if lat:
+        fl = lat["frame_to_setpoint_ms"]
+        lines += ["", f"latency ({lat['profile']}, camera {lat['camera_hz']:g} Hz, setpoints {lat['setpoint_hz']:g} Hz, "
+                  f"{lat['duration_s']:g} s): frame-to-setpoint p50 {_fmt(fl['p50'])} ms, p99 {_fmt(fl['p99'])} ms "
+                  f"({fl['results']} results); frames submitted {lat['frames_submitted']}, processed "
+                  f"{lat['frames_processed']}, dropped {lat['frames_dropped']}, stale results {lat['stale_results']}; "
+                  f"setpoints {lat['setpoints_sent']} ({lat['setpoints_without_result']} without a result)"]
+    first = next(iter(report["profiles"].values()), None)
+    if first:
+        lines.append(f"memory: peak RSS per profile, {first['memory_method']}; cpu ms = process CPU time "
+                     f"(all threads) per frame")
+    return "\n".join(lines)
+
+
+def _fmt(value: float | None) -> str:
+    return "-" if value is None else f"{value:.1f}" if abs(value) < 1000 else f"{value:.0f}"
