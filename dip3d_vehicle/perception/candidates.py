@@ -27,6 +27,8 @@ __all__ = ["CandidateDetector", "SiftDetector", "match_bruteforce", "match_row_b
 # A lone row-band neighbour (no second one for the ratio test) is accepted only if it is this close
 # (SIFT descriptors are L2-normalised to 512; good matches are typically well under 200).
 _LONE_MATCH_MAX_DIST = 180.0
+_BAND_ROWS = 24.0
+"""Height of the row blocks matched together, pixels (a speed trade-off only: results do not depend on it)."""
 
 # Up to this many left x right feature pairs, row-band matching is one vectorised distance matrix.
 _ONE_SHOT_PAIRS = 1_000_000
@@ -112,7 +114,7 @@ def match_row_band(pts_l: np.ndarray, desc_l: np.ndarray, pts_r: np.ndarray, des
         # Few features: one masked distance matrix (the same constraint as the bands, no Python loop).
         q, t = _band_matches(pts_l, desc_l, pts_r, desc_r, ratio, row_tol_px, disp_range, disparity_sign)
         return _unique_right(q, t)
-    band = max(2.0 * row_tol_px, 1.0)
+    band = max(2.0 * row_tol_px, _BAND_ROWS)  # tall bands: few numpy calls; the exact row test is inside
     order_r = np.argsort(pts_r[:, 1], kind="stable")
     yr = pts_r[order_r, 1]
     keys_l = np.floor(pts_l[:, 1] / band).astype(np.int64)
