@@ -58,9 +58,8 @@ def replay_params(header: Mapping[str, Any], profile: str | None = None, files: 
     logged = dict(header.get("params") or {})
     unknown = sorted(k for k in logged if k not in known)
     base = load_params("default").with_overrides({k: v for k, v in logged.items() if k in known}, "run log")
-    given = load_params("default", files, sets)
-    over = {k: given[k] for k in given
-            if given.source(k) not in ("schema default", "params/default.yaml")}
+    given, plain = load_params("default", files, sets), load_params("default")
+    over = {k: given[k] for k in given if given.source(k) != plain.source(k)}
     return (base.with_overrides(over, "command line") if over else base), unknown
 
 
