@@ -1,0 +1,175 @@
+"""The one shared context of the mission: what the states read and write, nothing global.
+
+The loop fills in the inputs each tick (time, engaged, a new observation if one arrived); the
+states read them and write the outputs (the velocity command, messages for the pilot and the
+lights, the chosen target). Values that cross into the loop are small frozen dataclasses.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field, fields
+from typing import Any, Mapping
+
+import numpy as np
+
+from dip3d_vehicle.perception.pipeline import PerceptionResult
+from dip3d_vehicle.perception.values import Candidates
+from dip3d_vehicle.servo.command import VelocityCommand
+from dip3d_vehicle.servo.ibvs import PointServo, ServoErrors
+
+from .evidence import Vote
+from .tracker import TargetTracker, TrackedTarget
+
+__all__ = ["BehaviourConfig", "TrackFrame", "Observation", "StatusText", "SetServo", "Blackboard"]
+
+SEVERITY = {"critical": 2, "warning": 4, "notice": 5, "info": 6}
+"""MAV_SEVERITY numbers for StatusText."""
+
+
+@dataclass(frozen=True)
+class BehaviourConfig:
+    """The ``behaviour.*`` parameters (see params/schema/behaviour.yaml) plus the servo stand-off."""
+
+    tick_rate_hz: float = 50.0
+    perception_stale_s: float = 0.5
+    arm_seen_n: int = 3
+    arm_seen_m: int = 5
+    min_raise_rad: float = 0.9
+    arm_lost_frames: int = 3
+    steady_angle_rad: float = 0.1
+    steady_hold_s: float = 1.0
+    confirm_timeout_s: float = 10.0
+    vote_frames: int = 4
+    vote_radius_m: float = 0.3
+    min_vote_share: float = 0.6
+    min_votes: int = 3
+    select_timeout_s: float = 6.0
+    ack_kind: str = "nod"
+    ack_nod_yaw_rate_rad_s: float = 0.35
+    ack_nod_swing_s: float = 0.5
+    ack_nod_cycles: int = 1
+    ack_settle_s: float = 1.0
+    ack_lights_servo: int = 9
+    ack_lights_on_pwm: int = 1900
+    ack_lights_off_pwm: int = 1100
+    ack_flashes: int = 2
+    ack_flash_period_s: float = 0.6
+    track_ratio: float = 0.8
+    track_min_matches: int = 4
+    track_gate_m: float = 0.5
+    track_gate_growth_m_s: float = 0.4
+    track_model_size: int = 600
+    track_lost_frames: int = 3
+    track_roi_margin_px: float = 200.0
+    track_roi_object_m: float = 0.4
+    lost_grace_s: float = 1.0
+    lost_timeout_s: float = 6.0
+    servo_timeout_s: float = 90.0
+    arrive_tolerance_px: float = 40.0
+    arrive_tolerance_m: float = 0.10
+    arrive_hysteresis: float = 1.5
+    arrive_hold_s: float = 1.5
+    arrive_max_range_rate_m_s: float = 0.03
+    release_frames: int = 3
+    abort_hold_s: float = 3.0
+    standoff_m: float = 1.0
+    statustext: bool = True
+
+    @classmethod
+    def from_params(cls, params: Mapping[str, Any]) -> "BehaviourConfig":
+        """Build from effective parameters (``behaviour.*``, ``servo.standoff_m``, ``mission.statustext``)."""
+        out, known = {}, set(params)
+        for f in fields(cls):
+            for key in (f"behaviour.{f.name}", f"servo.{f.name}", f"mission.{f.name}"):
+                if key in known:
+                    out[f.name] = params[key]
+                    break
+        return cls(**out)
+
+
+@dataclass(frozen=True)
+class TrackFrame:
+    """Full-frame matched features of one frame (no arm mask), for the tracker."""
+
+    candidates: Candidates
+    xyz_m: np.ndarray
+
+
+@dataclass(frozen=True)
+class Observation:
+    """What perception made of one camera frame.
+
+    Attributes:
+        stamp_s: capture time on the loop's clock.
+        index: frame number.
+        result: the full perception core's result (diver, pointing, selection), or None.
+        track: full-frame features for the tracker, or None.
+    """
+
+    stamp_s: float
+    index: int
+    result: PerceptionResult | None = None
+    track: TrackFrame | None = None
+
+
+@dataclass(frozen=True)
+class StatusText:
+    """A STATUSTEXT for the pilot."""
+
+    severity: str
+    text: str
+
+
+@dataclass(frozen=True)
+class SetServo:
+    """A MAV_CMD_DO_SET_SERVO (e.g. lights) for the autopilot."""
+
+    instance: int
+    pwm: int
+
+
+@dataclass
+class Blackboard:
+    """Shared mission context.
+
+    Inputs (written by the loop each tick): ``now_s``, ``engaged``, ``hold_reason``, ``observation``
+    (a new one this tick, else None), ``perception_fresh``.
+    Outputs (written by the states): ``command`` (None = no motion), ``outbox``, ``chosen``,
+    ``target``, ``errors``, ``arrived``.
+    """
+
+    config: BehaviourConfig
+    servo: PointServo
+    tracker: TargetTracker
+    now_s: float = 0.0
+    engaged: bool = False
+    hold_reason: str = ""
+    perception_fresh: bool = False
+    observation: Observation | None = None
+    last_observation: Observation | None = None
+    command: VelocityCommand | None = None
+    command_since_s: float = 0.0
+    chosen: Vote | None = None
+    target: TrackedTarget | None = None
+    errors: ServoErrors | None = None
+    arrived: bool = False
+    arrivals: int = 0
+    outbox: list = field(default_factory=list)
+    story: list[str] = field(default_factory=list)
+
+    def say(self, text: str, severity: str = "info", pilot: bool = False) -> None:
+        """Add a line to the story; with ``pilot`` also queue it as a STATUSTEXT."""
+        self.story.append(f"t={self.now_s:.2f} {text}")
+        if pilot and self.config.statustext:
+            self.outbox.append(StatusText(severity, ("DIP3D: " + text)[:50]))
+
+    def set_command(self, command: VelocityCommand | None) -> None:
+        """Set the command the link streams until the next change (None = no motion)."""
+        if command != self.command:
+            self.command_since_s = self.now_s
+        self.command = command
+
+    def take_outbox(self) -> list:
+        """Return and clear the queued messages."""
+        out, self.outbox = self.outbox, []
+        return out

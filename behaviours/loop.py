@@ -1,0 +1,308 @@
+"""The controller tick shared by ``run`` (real camera and autopilot) and ``sitl`` (lockstep simulator).
+
+One tick, single-threaded, on the injected clock::
+
+    link.poll()                      # telemetry, operator commands
+    blackboard <- engaged, hold reason, a new Observation if perception delivered one
+    mission.tick()                   # the current state's behaviour; maybe a transition
+    send the states' messages        # STATUSTEXT to the pilot, DO_SET_SERVO for the lights
+    link.tick(command if perception is fresh else None, perception_fresh, capture stamp)
+
+Perception never blocks the tick: in ``run`` a ``PerceptionWorker`` thread processes the newest
+camera frame (older frames are dropped and counted) and the tick picks up whatever result is new;
+in the simulator, results are delivered after a modelled latency. While the newest result is
+older than ``behaviour.perception_stale_s`` no motion is commanded (the link also refuses to engage
+after ``link.perception_timeout_s``).
+"""
+
+from __future__ import annotations
+
+import math
+import threading
+import time
+from dataclasses import dataclass, field
+from typing import Any, Callable, Mapping
+
+import numpy as np
+
+from dip3d_vehicle.frames import StereoFrame
+from dip3d_vehicle.perception.pipeline import Perception
+from dip3d_vehicle.perception.triangulation import triangulate
+from dip3d_vehicle.perception.values import Candidates
+from dip3d_vehicle.servo.command import VelocityCommand
+from dip3d_vehicle.servo.ibvs import PointServo
+
+from .blackboard import SEVERITY, BehaviourConfig, Blackboard, Observation, SetServo, StatusText, TrackFrame
+from .machine import Mission
+from .tracker import TargetTracker, TrackerConfig
+
+__all__ = ["build_mission", "FrameProcessor", "Controller", "PerceptionWorker", "MAV_CMD_DO_SET_SERVO"]
+
+MAV_CMD_DO_SET_SERVO = 183
+
+
+def build_mission(params: Mapping[str, Any], rig, image_size: tuple[int, int], now_s: float = 0.0) -> Mission:
+    """Return a Mission (machine + blackboard + servo + tracker) for a rig and parameters."""
+    servo = PointServo.from_params(params, rig.focal_px, rig.principal_point_px, image_size)
+    tracker = TargetTracker(TrackerConfig.from_params(params), rig)
+    bb = Blackboard(BehaviourConfig.from_params(params), servo, tracker, now_s=now_s)
+    return Mission(bb)
+
+
+class FrameProcessor:
+    """Turns a camera frame into an Observation, doing only what the current state needs.
+
+    ``full``: the perception core (pose, masked candidates, selection). ``track``: rectify and the
+    full-frame matched features with their 3D points (no pose), for the tracker.
+
+    Args:
+        perception: the perception core (its rig, detector and pose backend are used).
+        before: called with each frame before processing (the simulator hands the pose source
+            its keypoints here), or None.
+    """
+
+    def __init__(self, perception: Perception, before: Callable[[StereoFrame], None] | None = None) -> None:
+        self.perception = perception
+        self.before = before
+        self.processed = {"full": 0, "track": 0}
+        self.busy_s = 0.0
+
+    def process(self, frame: StereoFrame, need: str, stamp_s: float | None = None,
+                roi: tuple[int, int, int, int] | None = None) -> Observation:
+        """Process one frame; ``stamp_s`` is its capture time on the loop clock (default its stamp).
+
+        ``roi`` (x0, y0, x1, y1, rectified left px) limits the ``track`` search: both images are
+        cropped to those rows and to the columns from ``x0`` minus the disparity allowance to ``x1``.
+        """
+        t0 = time.perf_counter()
+        stamp = frame.stamp_s if stamp_s is None else stamp_s
+        if self.before is not None:
+            self.before(frame)
+        p = self.perception
+        if need == "track":
+            left, right = p.rig.rectify(frame.left, frame.right)
+            cands = _detect_in(p, left, right, roi)
+            xyz = triangulate(p.Q, cands.left_px, cands.disparity_px) if len(cands) else np.zeros((0, 3))
+            keep = np.all(np.isfinite(xyz), axis=1) & (xyz[:, 2] > max(p.params["filters.min_depth_m"], 0.0)) \
+                & (xyz[:, 2] <= p.params["filters.max_depth_m"])
+            obs = Observation(stamp, frame.index, track=TrackFrame(cands.subset(keep), xyz[keep]))
+        else:
+            obs = Observation(stamp, frame.index, result=p.process(frame.left, frame.right))
+        self.processed[need] = self.processed.get(need, 0) + 1
+        self.busy_s += time.perf_counter() - t0
+        return obs
+
+
+def _detect_in(p: Perception, left: np.ndarray, right: np.ndarray, roi) -> Candidates:
+    """Full-frame (no arm mask) matched features, optionally only inside a region of interest."""
+    if roi is None:
+        return p.detector.detect(left, right, None, p.rig)
+    x0, y0, x1, y1 = roi
+    if x1 - x0 < 16 or y1 - y0 < 16:
+        return p.detector.detect(left, right, None, p.rig)
+    cands = p.detector.detect(left[y0:y1, x0:x1], right[y0:y1, x0:x1], None, p.rig)
+    shift = np.array([x0, y0], float)
+    return Candidates(cands.left_px + shift, cands.right_px + shift, cands.descriptors, cands.sizes_px)
+
+
+@dataclass
+class TickRecord:
+    """What one tick did (for logs and safety checks)."""
+
+    t_s: float
+    state: str
+    engaged: bool
+    command: VelocityCommand | None
+    fresh: bool
+    trigger: str | None = None
+
+
+@dataclass
+class Controller:
+    """The controller: link + mission, one ``tick`` per loop iteration.
+
+    Args:
+        link: an opened VehicleLink.
+        mission: the Mission (from ``build_mission``).
+        clock: the loop's clock (the link's).
+    """
+
+    link: Any
+    mission: Mission
+    clock: Any
+    sent: dict = field(default_factory=lambda: {"statustext": 0, "set_servo": 0})
+    last_observation: Observation | None = None
+    observations: int = 0
+
+    @property
+    def bb(self) -> Blackboard:
+        """The mission's blackboard."""
+        return self.mission.bb
+
+    def perception_fresh(self, now_s: float) -> bool:
+        """True when the newest observation was captured within ``behaviour.perception_stale_s``."""
+        obs = self.last_observation
+        return obs is not None and now_s - obs.stamp_s <= self.bb.config.perception_stale_s
+
+    def tick(self, observation: Observation | None = None) -> TickRecord:
+        """Run one controller tick with this tick's new observation (or None)."""
+        now = self.clock.now()
+        link, bb = self.link, self.bb
+        link.poll()
+        if observation is not None:
+            self.last_observation = observation
+            self.observations += 1
+        fresh = self.perception_fresh(now)
+        bb.now_s, bb.observation, bb.perception_fresh = now, observation, fresh
+        bb.engaged, bb.hold_reason = link.engaged, link.not_engaged_reason
+        trigger = self.mission.tick()
+        if observation is not None:
+            bb.last_observation = observation
+        bb.observation = None
+        self._send_outbox(bb.take_outbox())
+        command = bb.command if fresh else None
+        stamp = self.last_observation.stamp_s if self.last_observation is not None else None
+        engaged = link.tick(command, perception_fresh=fresh, perception_stamp_s=stamp)
+        return TickRecord(now, self.mission.state, engaged, command, fresh, trigger)
+
+    def _send_outbox(self, items: list) -> None:
+        """Send the states' STATUSTEXTs and servo commands through the link's connection."""
+        for item in items:
+            if isinstance(item, StatusText):
+                self._raw_send("STATUSTEXT", _statustext(item))
+                self.sent["statustext"] += 1
+            elif isinstance(item, SetServo):
+                c = self.link.config
+                self._raw_send("COMMAND_LONG", _command_long(c.target_system, c.target_component, MAV_CMD_DO_SET_SERVO,
+                                                             float(item.instance), float(item.pwm)))
+                self.sent["set_servo"] += 1
+
+    def _raw_send(self, name: str, msg: Any) -> None:
+        """Send one message with the link's own identity.
+
+        VehicleLink has no public method for STATUSTEXT / COMMAND_LONG yet; this uses its
+        ``_send`` (own system/component id, counted in its stats, never raises on I/O).
+        """
+        self.link._send(name, msg)
+
+
+def _statustext(item: StatusText) -> Any:
+    """Return a MAVLink STATUSTEXT message."""
+    from pymavlink.dialects.v20 import ardupilotmega as m2
+    return m2.MAVLink_statustext_message(SEVERITY.get(item.severity, 6), item.text.encode()[:50], 0, 0)
+
+
+def _command_long(target_system: int, target_component: int, command: int, *params: float) -> Any:
+    """Return a MAVLink COMMAND_LONG with up to 7 parameters."""
+    from pymavlink.dialects.v20 import ardupilotmega as m2
+    p = list(params) + [0.0] * (7 - len(params))
+    return m2.MAVLink_command_long_message(target_system, target_component, command, 0, *p)
+
+
+class PerceptionWorker:
+    """Background perception for ``run``: the newest frame wins, stale results are dropped.
+
+    A grabber thread reads the camera continuously and keeps only the newest frame (frames it
+    overwrites are counted in ``dropped_frames``); the worker thread processes the newest frame with
+    the mission's current need and publishes the result. ``take()`` (called by the tick) returns a
+    result once; a result replaced before it was taken is counted in ``dropped_results``; a frame
+    older than ``max_frame_age_s`` when the worker gets to it is skipped (``stale_frames``).
+
+    Args:
+        source: an open StereoSource (iterable of StereoFrame).
+        processor: the FrameProcessor.
+        need: callable returning the mission's current need ("full" / "track").
+        clock: the loop clock (a WallClock onboard); frames are stamped with it on arrival.
+        max_frame_age_s: skip frames older than this.
+    """
+
+    def __init__(self, source, processor: FrameProcessor, need: Callable[[], str], clock,
+                 max_frame_age_s: float = 0.5) -> None:
+        self.source, self.processor, self.need, self.clock = source, processor, need, clock
+        self.max_frame_age_s = max_frame_age_s
+        self._lock = threading.Lock()
+        self._frame: tuple[float, StereoFrame] | None = None
+        self._result: Observation | None = None
+        self._stop = threading.Event()
+        self.ended = threading.Event()
+        self.error: BaseException | None = None
+        self.dropped_frames = self.dropped_results = self.stale_frames = self.frames_in = 0
+        self._threads = [threading.Thread(target=self._grab, name="dip3d-grab", daemon=True),
+                         threading.Thread(target=self._work, name="dip3d-perceive", daemon=True)]
+
+    def start(self) -> None:
+        """Start both threads."""
+        for t in self._threads:
+            t.start()
+
+    def stop(self) -> None:
+        """Ask both threads to stop and wait briefly for them."""
+        self._stop.set()
+        for t in self._threads:
+            t.join(timeout=2.0)
+
+    def take(self) -> Observation | None:
+        """Return the newest result not taken yet, or None."""
+        with self._lock:
+            out, self._result = self._result, None
+        return out
+
+    def _grab(self) -> None:
+        try:
+            for frame in self.source:
+                if self._stop.is_set():
+                    break
+                with self._lock:
+                    if self._frame is not None:
+                        self.dropped_frames += 1
+                    self._frame = (self.clock.now(), frame)
+                    self.frames_in += 1
+        except BaseException as exc:  # noqa: BLE001 - reported by the main loop
+            self.error = exc
+        finally:
+            self.ended.set()
+
+    def _work(self) -> None:
+        while not self._stop.is_set():
+            with self._lock:
+                item, self._frame = self._frame, None
+            if item is None:
+                if self.ended.is_set():
+                    return
+                time.sleep(0.002)
+                continue
+            stamp, frame = item
+            if self.clock.now() - stamp > self.max_frame_age_s:
+                self.stale_frames += 1
+                continue
+            try:
+                obs = self.processor.process(frame, self.need(), stamp)
+            except BaseException as exc:  # noqa: BLE001
+                self.error = exc
+                return
+            with self._lock:
+                if self._result is not None:
+                    self.dropped_results += 1
+                self._result = obs
+
+
+def observation_summary(obs: Observation | None) -> dict:
+    """Return a small JSON-able summary of an observation for the run log."""
+    if obs is None:
+        return {}
+    out: dict = {"stamp_s": obs.stamp_s, "index": obs.index}
+    if obs.result is not None:
+        r = obs.result
+        out["status"] = r.status
+        if r.selection is not None and r.selection.target is not None:
+            out["selection"] = {"xyz_m": [round(float(v), 3) for v in r.selection.target.xyz_m],
+                                "confidence": round(float(r.selection.confidence), 3),
+                                "ambiguous": bool(r.selection.ambiguous)}
+    if obs.track is not None:
+        out["features"] = len(obs.track.candidates)
+    return out
+
+
+def finite_or_none(value: float | None) -> float | None:
+    """Return a finite float or None (JSON-safe)."""
+    return None if value is None or not math.isfinite(float(value)) else float(value)

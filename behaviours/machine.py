@@ -1,0 +1,129 @@
+"""The mission state machine: one table of states and triggers, driven by explicit ticks.
+
+Read the whole mission here::
+
+    idle --engage--> wait_for_diver --arm_seen--> confirm_point --steady--> select_target
+    select_target --winner--> acknowledge --acked--> servo --centred--> arrive --held--> done
+    done --released--> wait_for_diver                      (a new request needs the arm lowered)
+    confirm_point/select_target --arm_lost--> wait_for_diver; confirm_point --timeout--> wait_for_diver
+    select_target --ambiguous--> confirm_point
+    servo/arrive --lost--> lost_target --reacquired--> servo; arrive --drifted--> servo
+    servo/arrive/lost_target --give_up--> abort --reset--> wait_for_diver
+    every state but idle --disengage--> idle    (the link stopped commanding: pilot, loss, disable)
+
+The ``transitions`` library holds the table (``queued=True``, no auto transitions, no Timeout
+extension: every timeout is checked against the loop's clock in the state's own ``tick``). Each
+state's behaviour is a small class in ``states.py`` with enter / tick / exit.
+"""
+
+from __future__ import annotations
+
+from transitions import Machine
+
+from .blackboard import Blackboard
+from .states import STATE_CLASSES, MissionState
+
+__all__ = ["STATES", "TRANSITIONS", "Mission", "PERCEPTION_STALE"]
+
+STATES: list[str] = ["idle", "wait_for_diver", "confirm_point", "select_target", "acknowledge", "servo",
+                     "lost_target", "arrive", "done", "abort"]
+"""Every mission state."""
+
+TRANSITIONS: list[dict] = [
+    {"trigger": "engage", "source": "idle", "dest": "wait_for_diver"},
+    {"trigger": "arm_seen", "source": "wait_for_diver", "dest": "confirm_point"},
+    {"trigger": "steady", "source": "confirm_point", "dest": "select_target"},
+    {"trigger": "timeout", "source": "confirm_point", "dest": "wait_for_diver"},
+    {"trigger": "arm_lost", "source": ["confirm_point", "select_target"], "dest": "wait_for_diver"},
+    {"trigger": "ambiguous", "source": "select_target", "dest": "confirm_point"},
+    {"trigger": "winner", "source": "select_target", "dest": "acknowledge"},
+    {"trigger": "acked", "source": "acknowledge", "dest": "servo"},
+    {"trigger": "centred", "source": "servo", "dest": "arrive"},
+    {"trigger": "drifted", "source": "arrive", "dest": "servo"},
+    {"trigger": "lost", "source": ["servo", "arrive"], "dest": "lost_target"},
+    {"trigger": "reacquired", "source": "lost_target", "dest": "servo"},
+    {"trigger": "give_up", "source": ["servo", "arrive", "lost_target"], "dest": "abort"},
+    {"trigger": "held", "source": "arrive", "dest": "done"},
+    {"trigger": "released", "source": "done", "dest": "wait_for_diver"},
+    {"trigger": "reset", "source": "abort", "dest": "wait_for_diver"},
+    {"trigger": "disengage", "source": [s for s in STATES if s != "idle"], "dest": "idle"},
+]
+"""The whole machine: trigger, source state(s), destination."""
+
+PERCEPTION_STALE = "perception stale"
+"""The link's not-engaged reason that only holds the mission (the machine does not go to idle)."""
+
+
+class Mission:
+    """The model the machine drives: holds the states' behaviours and the blackboard.
+
+    Args:
+        bb: the shared context.
+
+    Attributes:
+        state: the current state's name (managed by ``transitions``).
+        history: (time, state) of every state entered, starting with ("idle").
+    """
+
+    def __init__(self, bb: Blackboard) -> None:
+        self.bb = bb
+        self.behaviours: dict[str, MissionState] = {cls.name: cls() for cls in STATE_CLASSES}
+        self.history: list[tuple[float, str]] = [(bb.now_s, "idle")]
+        self.machine = Machine(model=self, states=STATES, transitions=TRANSITIONS, initial="idle",
+                               queued=True, auto_transitions=False, send_event=True,
+                               before_state_change="_leave", after_state_change="_arrive")
+        self.behaviours["idle"].enter(bb)
+
+    @property
+    def needs(self) -> str:
+        """The perception the current state wants: "full" or "track"."""
+        return self.behaviours[self.state].needs
+
+    def track_roi(self, rig, image_size: tuple[int, int]) -> tuple[int, int, int, int] | None:
+        """Return where to look for the target in the next frame (rectified px), or None = everywhere.
+
+        Only in tracking states with a target seen recently (not in lost_target, which searches the
+        whole frame): a box around the predicted centre, ``behaviour.track_roi_margin_px`` plus the
+        projected size of ``behaviour.track_roi_object_m`` on each side; its left edge is widened by
+        twice the predicted disparity so the right image's matches fall inside.
+        """
+        bb, tracker = self.bb, self.bb.tracker
+        if self.needs != "track" or self.state == "lost_target" or not tracker.active or tracker.misses > 0:
+            return None
+        xyz = tracker.predicted_xyz(bb.now_s, bb.command)
+        if xyz is None or xyz[2] < 0.2:
+            return None
+        f = rig.focal_px
+        cx, cy = rig.principal_point_px
+        u, v = f * xyz[0] / xyz[2] + cx, f * xyz[1] / xyz[2] + cy
+        half = bb.config.track_roi_margin_px + f * bb.config.track_roi_object_m / xyz[2]
+        disparity = f * abs(rig.baseline_m) / xyz[2]
+        w, h = image_size
+        x0, x1 = int(max(0, u - half - 2 * disparity)), int(min(w, u + half))
+        y0, y1 = int(max(0, v - half)), int(min(h, v + half))
+        if x1 - x0 < 32 or y1 - y0 < 32:
+            return None
+        return x0, y0, x1, y1
+
+    def tick(self) -> str | None:
+        """Run one tick of the current state; fire its trigger. Return the trigger fired, if any."""
+        bb = self.bb
+        if self.state != "idle" and not bb.engaged and bb.hold_reason != PERCEPTION_STALE:
+            bb.say(f"disengaged ({bb.hold_reason or 'link'}): stopping the mission")
+            self.trigger("disengage")
+            return "disengage"
+        name = self.behaviours[self.state].tick(bb)
+        if name:
+            self.trigger(name)
+        return name
+
+    def _leave(self, event) -> None:
+        """Exit the source state's behaviour."""
+        self.behaviours[event.transition.source].exit(self.bb)
+
+    def _arrive(self, event) -> None:
+        """Enter the destination state's behaviour and record it."""
+        dest = event.transition.dest
+        self.history.append((self.bb.now_s, dest))
+        self.bb.say(f"state {event.transition.source} -> {dest} ({event.event.name})")
+        self.behaviours[dest].enter(self.bb)

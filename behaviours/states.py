@@ -1,0 +1,384 @@
+"""The behaviour of each mission state: small classes with enter / tick / exit.
+
+The machine (``machine.py``) decides which state runs; a state only looks at the blackboard,
+sets the command and returns a trigger name (or None to stay). ``needs`` tells the loop which
+perception the state wants: ``full`` (the perception core: diver, pointing, selection) or
+``track`` (full-frame features for the tracker; no pose needed while the vehicle moves).
+Time is ``bb.now_s`` (the loop's clock); nothing here sleeps or starts a timer.
+"""
+
+from __future__ import annotations
+
+from collections import deque
+
+import numpy as np
+
+from .acknowledge import Acknowledgement
+from .blackboard import Blackboard
+from .evidence import VoteBox, angular_spread_rad, arm_direction, image_direction, is_raised
+from .tracker import TrackedTarget
+
+__all__ = ["MissionState", "Idle", "WaitForDiver", "ConfirmPoint", "SelectTarget", "Acknowledge",
+           "Servo", "LostTarget", "Arrive", "Done", "Abort", "STATE_CLASSES"]
+
+
+class MissionState:
+    """Base class: one state's behaviour. Subclasses override what they need."""
+
+    name = "state"
+    needs = "full"
+    triggers: tuple[str, ...] = ()
+
+    def __init__(self) -> None:
+        self.entered_s = 0.0
+
+    def enter(self, bb: Blackboard) -> None:
+        """Called on entry (after the previous state's exit)."""
+        self.entered_s = bb.now_s
+
+    def tick(self, bb: Blackboard) -> str | None:
+        """One loop tick; return a trigger name to leave, or None to stay."""
+        return None
+
+    def exit(self, bb: Blackboard) -> None:
+        """Called on exit."""
+
+    def elapsed(self, bb: Blackboard) -> float:
+        """Seconds since entry."""
+        return bb.now_s - self.entered_s
+
+
+def _new_result(bb: Blackboard):
+    """Return this tick's new perception-core result, or None."""
+    obs = bb.observation
+    return None if obs is None else obs.result
+
+
+def _raised(bb: Blackboard, result) -> bool:
+    """Return True when a result shows a raised pointing arm."""
+    return is_raised(arm_direction(result), bb.config.min_raise_rad)
+
+
+def _track(bb: Blackboard) -> tuple[bool, TrackedTarget | None]:
+    """Feed a new tracking frame to the tracker: (was there a new frame, the target or None)."""
+    obs = bb.observation
+    if obs is None or obs.track is None:
+        return False, None
+    found = bb.tracker.update(obs.track.candidates, obs.track.xyz_m, obs.stamp_s, bb.command)
+    if found is not None:
+        bb.target = found
+    return True, found
+
+
+class Idle(MissionState):
+    """Disengaged (pilot in control, or not yet enabled): no motion; wait for the link to engage."""
+
+    name = "idle"
+    triggers = ("engage",)
+
+    def enter(self, bb: Blackboard) -> None:
+        super().enter(bb)
+        bb.set_command(None)
+        bb.servo.reset()
+
+    def tick(self, bb: Blackboard) -> str | None:
+        return "engage" if bb.engaged else None
+
+
+class WaitForDiver(MissionState):
+    """Hold still until a raised arm is seen in N of the last M frames."""
+
+    name = "wait_for_diver"
+    triggers = ("arm_seen",)
+
+    def enter(self, bb: Blackboard) -> None:
+        super().enter(bb)
+        bb.set_command(None)
+        self.history: deque[bool] = deque(maxlen=bb.config.arm_seen_m)
+
+    def tick(self, bb: Blackboard) -> str | None:
+        result = _new_result(bb)
+        if result is None:
+            return None
+        self.history.append(_raised(bb, result))
+        if sum(self.history) >= bb.config.arm_seen_n:
+            bb.say(f"diver's arm raised in {sum(self.history)} of the last {len(self.history)} frames")
+            return "arm_seen"
+        return None
+
+
+class ConfirmPoint(MissionState):
+    """Wait until the pointing direction (in the left image) stays within an angle for a hold time."""
+
+    name = "confirm_point"
+    triggers = ("steady", "arm_lost", "timeout")
+
+    def enter(self, bb: Blackboard) -> None:
+        super().enter(bb)
+        bb.set_command(None)
+        self.window: list[tuple[float, np.ndarray]] = []
+        self.misses = 0
+
+    def tick(self, bb: Blackboard) -> str | None:
+        c = bb.config
+        if self.elapsed(bb) > c.confirm_timeout_s:
+            bb.say(f"no steady pointing in {c.confirm_timeout_s:g} s")
+            return "timeout"
+        result = _new_result(bb)
+        if result is None:
+            return None
+        if not is_raised(arm_direction(result), c.min_raise_rad):
+            self.misses += 1
+            if self.misses >= c.arm_lost_frames:
+                bb.say("diver lowered the arm or left")
+                return "arm_lost"
+            return None
+        self.misses = 0
+        direction = image_direction(result)
+        stamp = bb.observation.stamp_s
+        self.window.append((stamp, direction))
+        spread = angular_spread_rad([d for _, d in self.window])
+        if spread > c.steady_angle_rad:
+            self.window = [(stamp, direction)]
+            return None
+        if stamp - self.window[0][0] >= c.steady_hold_s and len(self.window) >= 2:
+            bb.say(f"pointing steady for {stamp - self.window[0][0]:.1f} s (spread {spread:.3f} rad)")
+            return "steady"
+        return None
+
+
+class SelectTarget(MissionState):
+    """Aggregate the selections of several frames; only a clear winner proceeds."""
+
+    name = "select_target"
+    triggers = ("winner", "ambiguous", "arm_lost")
+
+    def enter(self, bb: Blackboard) -> None:
+        super().enter(bb)
+        bb.set_command(None)
+        self.box = VoteBox(bb.config.vote_radius_m)
+        self.misses = 0
+
+    def tick(self, bb: Blackboard) -> str | None:
+        c = bb.config
+        if self.elapsed(bb) > c.select_timeout_s:
+            bb.say(f"no decision in {c.select_timeout_s:g} s: ambiguous", "notice", pilot=True)
+            return "ambiguous"
+        result = _new_result(bb)
+        if result is None:
+            return None
+        if not _raised(bb, result):
+            self.misses += 1
+            if self.misses >= c.arm_lost_frames:
+                bb.say("diver lowered the arm or left while selecting")
+                return "arm_lost"
+            return None
+        self.misses = 0
+        self.box.add(result, bb.observation.stamp_s)
+        if self.box.frames < c.vote_frames:
+            return None
+        decision = self.box.decide(c.min_vote_share, c.min_votes)
+        if decision.winner is None:
+            bb.say(f"ambiguous: {decision.reason}", "notice", pilot=True)
+            bb.say(f"votes: {self.box.summary()}; {decision.ambiguous_frames} ambiguous, "
+                   f"{decision.empty_frames} empty of {decision.frames} frames")
+            return "ambiguous"
+        w = decision.winner
+        bb.chosen = w
+        bb.tracker.start(w.obj, w.candidates, w.stamp_s)
+        bb.target = bb.tracker.last
+        xyz = ", ".join(f"{v:.2f}" for v in w.xyz_m)
+        bb.say(f"target chosen at ({xyz}) m, share {decision.share:.2f}", pilot=True)
+        bb.say(f"votes: {self.box.summary()}")
+        return "winner"
+
+
+class Acknowledge(MissionState):
+    """Tell the diver the decision (nod or lights), keeping the target tracked."""
+
+    name = "acknowledge"
+    triggers = ("acked",)
+    needs = "track"
+
+    def enter(self, bb: Blackboard) -> None:
+        super().enter(bb)
+        self.ack = Acknowledgement(bb.config)
+        self.ack.start(bb.now_s)
+        bb.say(f"acknowledging with {bb.config.ack_kind}")
+
+    def tick(self, bb: Blackboard) -> str | None:
+        _track(bb)
+        command, servos, finished = self.ack.tick(bb.now_s)
+        bb.set_command(command)
+        bb.outbox.extend(servos)
+        return "acked" if finished else None
+
+    def exit(self, bb: Blackboard) -> None:
+        bb.set_command(None)
+
+
+class Servo(MissionState):
+    """Visual servo to the tracked target; hold still through short losses."""
+
+    name = "servo"
+    triggers = ("centred", "lost", "give_up")
+    needs = "track"
+
+    def enter(self, bb: Blackboard) -> None:
+        super().enter(bb)
+        bb.servo.reset()
+        self.last_update_s: float | None = None
+
+    def tick(self, bb: Blackboard) -> str | None:
+        c = bb.config
+        if self.elapsed(bb) > c.servo_timeout_s:
+            bb.say(f"target not reached in {c.servo_timeout_s:g} s", "warning", pilot=True)
+            return "give_up"
+        new, found = _track(bb)
+        if not new:
+            return None
+        if found is None:
+            bb.servo.reset()
+            bb.set_command(None)
+            last = bb.tracker.last_seen_s
+            if last is not None and bb.observation.stamp_s - last > c.lost_grace_s:
+                return "lost"
+            return None
+        stamp = bb.observation.stamp_s
+        dt = stamp - self.last_update_s if self.last_update_s is not None else 0.2
+        self.last_update_s = stamp
+        bb.set_command(bb.servo.update(tuple(found.left_px), float(found.xyz_m[2]), max(dt, 1e-3)))
+        bb.errors = bb.servo.last_errors
+        return "centred" if within(bb, 1.0) else None
+
+
+def within(bb: Blackboard, factor: float) -> bool:
+    """Return True when the last servo errors are inside the arrive tolerances times ``factor``."""
+    e, c = bb.errors, bb.config
+    if e is None or e.range_m is None:
+        return False
+    return e.pixel_px <= c.arrive_tolerance_px * factor and abs(e.range_m) <= c.arrive_tolerance_m * factor
+
+
+class LostTarget(MissionState):
+    """Target not seen for a while: hold still and look for it; give up after a timeout."""
+
+    name = "lost_target"
+    triggers = ("reacquired", "give_up")
+    needs = "track"
+
+    def enter(self, bb: Blackboard) -> None:
+        super().enter(bb)
+        bb.set_command(None)
+        bb.servo.reset()
+        bb.say("target lost: holding and looking for it", "warning", pilot=True)
+
+    def tick(self, bb: Blackboard) -> str | None:
+        if self.elapsed(bb) > bb.config.lost_timeout_s:
+            return "give_up"
+        _, found = _track(bb)
+        if found is not None:
+            bb.say(f"target re-acquired ({found.matches} matches)")
+            return "reacquired"
+        return None
+
+
+class Arrive(MissionState):
+    """Centred and at the stand-off: keep correcting; done once inside tolerance and settled for the hold time.
+
+    Settled: the target's range changes by less than ``behaviour.arrive_max_range_rate_m_s`` between
+    frames (in ALT_HOLD nothing brakes the vehicle horizontally: a coasting vehicle is not arrived).
+    Leaving tolerance x hysteresis goes back to servo; in between, the hold time restarts.
+    """
+
+    name = "arrive"
+    triggers = ("held", "drifted", "lost", "give_up")
+    needs = "track"
+
+    def enter(self, bb: Blackboard) -> None:
+        super().enter(bb)
+        self.last_update_s: float | None = None
+        self.last_range_m: float | None = None
+        self.inside_since: float | None = None
+
+    def tick(self, bb: Blackboard) -> str | None:
+        c = bb.config
+        if self.elapsed(bb) > c.servo_timeout_s:
+            bb.say(f"could not settle at the target in {c.servo_timeout_s:g} s", "warning", pilot=True)
+            return "give_up"
+        new, found = _track(bb)
+        if not new:
+            return None
+        if found is None:
+            bb.servo.reset()
+            bb.set_command(None)
+            self.inside_since = None
+            return "lost" if bb.tracker.lost else None
+        stamp = bb.observation.stamp_s
+        dt = stamp - self.last_update_s if self.last_update_s is not None else 0.2
+        bb.set_command(bb.servo.update(tuple(found.left_px), float(found.xyz_m[2]), max(dt, 1e-3)))
+        bb.errors = bb.servo.last_errors
+        if not within(bb, c.arrive_hysteresis):
+            return "drifted"
+        rng = bb.errors.range_m
+        rate = abs(rng - self.last_range_m) / max(dt, 1e-3) if self.last_range_m is not None else float("inf")
+        self.last_update_s, self.last_range_m = stamp, rng
+        if within(bb, 1.0) and rate <= c.arrive_max_range_rate_m_s:
+            if self.inside_since is None:
+                self.inside_since = stamp
+            if stamp - self.inside_since >= c.arrive_hold_s:
+                return "held"
+        else:
+            self.inside_since = None
+        return None
+
+
+class Done(MissionState):
+    """Arrived: stop, hold, report; a new request needs the diver's arm down first."""
+
+    name = "done"
+    triggers = ("released",)
+
+    def enter(self, bb: Blackboard) -> None:
+        super().enter(bb)
+        bb.set_command(None)
+        bb.servo.reset()
+        bb.arrived = True
+        bb.arrivals += 1
+        e = bb.errors
+        rng = bb.config.standoff_m + (e.range_m if e is not None and e.range_m is not None else 0.0)
+        px = e.pixel_px if e is not None else float("nan")
+        bb.say(f"arrived: range {rng:.2f} m, {px:.0f} px off", pilot=True)
+        self.lowered = 0
+
+    def tick(self, bb: Blackboard) -> str | None:
+        result = _new_result(bb)
+        if result is None:
+            return None
+        self.lowered = 0 if _raised(bb, result) else self.lowered + 1
+        if self.lowered >= bb.config.release_frames:
+            bb.say("diver's arm down: ready for a new request")
+            return "released"
+        return None
+
+
+class Abort(MissionState):
+    """Give up on the target: stop, tell the pilot, hold, then wait for the diver again."""
+
+    name = "abort"
+    triggers = ("reset",)
+
+    def enter(self, bb: Blackboard) -> None:
+        super().enter(bb)
+        bb.set_command(None)
+        bb.servo.reset()
+        bb.chosen = None
+        bb.say("aborted: holding", "warning", pilot=True)
+
+    def tick(self, bb: Blackboard) -> str | None:
+        return "reset" if self.elapsed(bb) >= bb.config.abort_hold_s else None
+
+
+STATE_CLASSES: tuple[type[MissionState], ...] = (Idle, WaitForDiver, ConfirmPoint, SelectTarget, Acknowledge,
+                                                 Servo, LostTarget, Arrive, Done, Abort)
+"""Every state's behaviour class, by ``name``."""

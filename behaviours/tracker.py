@@ -1,0 +1,208 @@
+"""Keep the chosen object identified in every new frame while the vehicle moves.
+
+The target is remembered by its appearance (the SIFT descriptors of its member features) and its 3D
+centre. In each new frame the full-frame matched features (no arm mask: the diver no longer matters)
+are grouped into objects (``group_objects``, as the selector does); the target is the object with
+the most descriptor matches to the model (Lowe's ratio test) whose centre lies inside a gate around
+the predicted centre. The prediction moves the last centre by the commanded vehicle motion since
+then (yaw turns the scene about the camera's vertical axis, surge/heave translate it); the gate
+grows with the time since the last sighting. The model keeps the first sighting's descriptors (the
+identity) plus the latest sighting's (the appearance up close). Lost after N frames in a row
+without a match; any later frame with a match re-acquires it.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Mapping
+
+import cv2
+import numpy as np
+
+from dip3d_vehicle.perception.calibration import StereoRig
+from dip3d_vehicle.perception.selection import group_objects
+from dip3d_vehicle.perception.values import Candidates, ObjectCandidate
+from dip3d_vehicle.servo.command import VelocityCommand
+
+__all__ = ["TrackerConfig", "TrackedTarget", "TargetTracker", "predict_xyz"]
+
+
+@dataclass(frozen=True)
+class TrackerConfig:
+    """Tracker settings (``behaviour.track_*`` and the selector's grouping ``selection.group_*``)."""
+
+    ratio: float = 0.8
+    min_matches: int = 4
+    gate_m: float = 0.5
+    gate_growth_m_s: float = 0.4
+    model_size: int = 600
+    lost_frames: int = 3
+    group_radius_px: float = 60.0
+    group_radius_m: float = 0.2
+    min_object_features: int = 3
+
+    @classmethod
+    def from_params(cls, params: Mapping) -> "TrackerConfig":
+        """Build from effective parameters."""
+        return cls(params["behaviour.track_ratio"], params["behaviour.track_min_matches"],
+                   params["behaviour.track_gate_m"], params["behaviour.track_gate_growth_m_s"],
+                   params["behaviour.track_model_size"], params["behaviour.track_lost_frames"],
+                   params["selection.group_radius_px"], params["selection.group_radius_m"],
+                   params["selection.min_object_features"])
+
+
+@dataclass(frozen=True)
+class TrackedTarget:
+    """The target as seen in one frame."""
+
+    left_px: np.ndarray
+    xyz_m: np.ndarray
+    matches: int
+    stamp_s: float
+    obj: ObjectCandidate
+
+
+def predict_xyz(xyz_m: np.ndarray, command: VelocityCommand | None, dt_s: float) -> np.ndarray:
+    """Move a camera-frame point by the vehicle's commanded motion over ``dt_s`` (small-motion model).
+
+    Yaw right (positive rate) turns the scene left about the camera's vertical axis; surge brings
+    it closer (z decreases); heave down moves it up in the image (y decreases).
+
+    Examples:
+        >>> predict_xyz(np.array([0.0, 0.0, 2.0]), VelocityCommand(surge_m_s=0.5), 1.0).round(3).tolist()
+        [0.0, 0.0, 1.5]
+    """
+    p = np.asarray(xyz_m, dtype=float).copy()
+    if command is None or dt_s <= 0:
+        return p
+    a = command.yaw_rate_rad_s * dt_s
+    x, z = p[0], p[2]
+    p[0], p[2] = x * math.cos(a) - z * math.sin(a), x * math.sin(a) + z * math.cos(a)
+    p[0] -= command.sway_m_s * dt_s
+    p[1] -= command.heave_m_s * dt_s
+    p[2] -= command.surge_m_s * dt_s
+    return p
+
+
+class TargetTracker:
+    """Follows one object across frames by appearance and 3D position.
+
+    Args:
+        config: the tracker settings.
+        rig: the stereo rig (for grouping features into objects).
+    """
+
+    def __init__(self, config: TrackerConfig, rig: StereoRig) -> None:
+        self.config = config
+        self.rig = rig
+        self._matcher = cv2.BFMatcher(cv2.NORM_L2)
+        self._first: np.ndarray = np.zeros((0, 128), np.float32)
+        self._latest: np.ndarray = np.zeros((0, 128), np.float32)
+        self.xyz_m: np.ndarray | None = None
+        self.last: TrackedTarget | None = None
+        self.last_seen_s: float | None = None
+        self.last_frame_s: float | None = None
+        self.misses = 0
+        self.frames = 0
+        self.reacquisitions = 0
+
+    @property
+    def active(self) -> bool:
+        """True once started with a target."""
+        return self.xyz_m is not None
+
+    @property
+    def lost(self) -> bool:
+        """True after ``lost_frames`` frames in a row without the target."""
+        return self.misses >= self.config.lost_frames
+
+    def start(self, obj: ObjectCandidate, candidates: Candidates, stamp_s: float) -> None:
+        """Start tracking ``obj`` (members index into ``candidates``), seen at ``stamp_s``."""
+        members = list(obj.members)
+        desc = candidates.descriptors[members] if len(candidates.descriptors) == len(candidates) else None
+        self._first = np.asarray(desc if desc is not None else np.zeros((0, 128)), np.float32)
+        self._first = self._first[: self.config.model_size]
+        self._latest = np.zeros((0, self._first.shape[1] if self._first.size else 128), np.float32)
+        self.xyz_m = np.asarray(obj.xyz_m, dtype=float)
+        self.last = TrackedTarget(np.asarray(obj.left_px, float), self.xyz_m, len(members), stamp_s, obj)
+        self.last_seen_s = self.last_frame_s = stamp_s
+        self.misses = 0
+
+    def predicted_xyz(self, stamp_s: float, command: VelocityCommand | None) -> np.ndarray | None:
+        """Return where the target should be at ``stamp_s`` given the commanded motion."""
+        if self.xyz_m is None:
+            return None
+        return predict_xyz(self.xyz_m, command, stamp_s - (self.last_frame_s or stamp_s))
+
+    def update(self, candidates: Candidates, xyz_m: np.ndarray, stamp_s: float,
+               command: VelocityCommand | None = None) -> TrackedTarget | None:
+        """Find the target in a new frame's full-frame candidates.
+
+        Args:
+            candidates: matched features of the frame (rectified px, with descriptors).
+            xyz_m: their 3D points (camera frame, metres).
+            stamp_s: capture time of the frame.
+            command: the vehicle command in force since the previous frame (for the prediction).
+
+        Returns:
+            The target in this frame, or None (a miss).
+        """
+        if self.xyz_m is None:
+            return None
+        self.frames += 1
+        predicted = self.predicted_xyz(stamp_s, command)
+        self.xyz_m = predicted  # dead reckoning while unseen keeps the gate centred
+        self.last_frame_s = stamp_s
+        found = self._find(candidates, xyz_m, predicted, stamp_s)
+        if found is None:
+            self.misses += 1
+            return None
+        if self.lost:
+            self.reacquisitions += 1
+        self.misses = 0
+        self.xyz_m = np.asarray(found.xyz_m, dtype=float)
+        self.last, self.last_seen_s = found, stamp_s
+        members = list(found.obj.members)
+        room = max(self.config.model_size - len(self._first), 0)
+        self._latest = np.asarray(candidates.descriptors[members][:room], np.float32)
+        return found
+
+    def _find(self, candidates: Candidates, xyz_m: np.ndarray, predicted: np.ndarray,
+              stamp_s: float) -> TrackedTarget | None:
+        """Return the best gated object of the frame, or None."""
+        if len(candidates) == 0 or len(self._first) < 2 or len(candidates.descriptors) != len(candidates):
+            return None
+        c = self.config
+        objects = group_objects(candidates, xyz_m, self.rig, c.group_radius_px, c.group_radius_m,
+                                c.min_object_features)
+        if not objects:
+            return None
+        # each part of the model separately: the same feature in both would defeat the ratio test
+        matched = self._matched_features(self._first, candidates.descriptors)
+        if len(self._latest) >= 2:
+            matched |= self._matched_features(self._latest, candidates.descriptors)
+        since = stamp_s - (self.last_seen_s if self.last_seen_s is not None else stamp_s)
+        gate = c.gate_m + c.gate_growth_m_s * max(since, 0.0)
+        best, best_count = None, 0
+        for obj in objects:
+            count = int(np.count_nonzero(matched[list(obj.members)]))
+            if count < c.min_matches or float(np.linalg.norm(obj.xyz_m - predicted)) > gate:
+                continue
+            if count > best_count:
+                best, best_count = obj, count
+        if best is None:
+            return None
+        return TrackedTarget(np.asarray(best.left_px, float), np.asarray(best.xyz_m, float), best_count,
+                             stamp_s, best)
+
+    def _matched_features(self, model: np.ndarray, frame_desc: np.ndarray) -> np.ndarray:
+        """Return a boolean per frame feature: it matches a model descriptor (ratio test)."""
+        out = np.zeros(len(frame_desc), bool)
+        if len(frame_desc) < 2:
+            return out
+        pairs = self._matcher.knnMatch(np.asarray(frame_desc, np.float32), model, k=2)
+        for m in pairs:
+            if len(m) == 2 and m[0].distance < self.config.ratio * m[1].distance:
+                out[m[0].queryIdx] = True
+        return out
