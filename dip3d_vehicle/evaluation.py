@@ -27,7 +27,7 @@ from .dataset import Dataset, FrameAnnotation
 
 __all__ = [
     "FrameOutcome", "Report", "assign_object", "frame_outcome", "evaluate_dataset", "format_table",
-    "format_summary", "mean_std", "Progress",
+    "format_summary", "mean_std", "Progress", "pose_backend_for",
 ]
 
 NO_POSITION = "-"
@@ -223,23 +223,39 @@ class Progress:
             self.stream.flush()
 
 
+def pose_backend_for(dataset: Dataset, choice: str = "auto") -> str | None:
+    """Return the pose backend to force for a dataset, or None to keep each profile's ``pose.backend``.
+
+    ``auto``: ``keypoints`` when the annotations carry arm keypoints (a pair without them is then
+    a ``no_pose`` frame, as with the simulator's pose-source dropouts), else the profile's.
+    """
+    if choice == "auto":
+        return "keypoints" if any(f.keypoints is not None for f in dataset.frames) else None
+    return None if choice == "params" else choice
+
+
 def evaluate_dataset(dataset: Dataset, profiles: Mapping[str, Mapping[str, Any]],
                      progress: Progress | None = None,
-                     on_result: Callable[[str, FrameAnnotation, Mapping[str, Any]], None] | None = None
-                     ) -> dict[str, Report]:
+                     on_result: Callable[[str, FrameAnnotation, Mapping[str, Any]], None] | None = None,
+                     pose: str = "auto") -> dict[str, Report]:
     """Run the perception core with each parameter set on every annotated pair and score it.
 
     Args:
         dataset: the dataset.
-        profiles: {name: effective parameters}; every set sees the same frames.
+        profiles: {name: effective parameters (config.Params)}; every set sees the same frames.
         progress: advanced once per pair.
         on_result: called with (profile name, annotation, contract JSON) for every result.
+        pose: ``auto`` (the annotations' keypoints when they have them, see ``pose_backend_for``),
+            ``keypoints``, ``blazepose``, or ``params`` (each profile's ``pose.backend``).
 
     Returns:
         {name: Report} in the order of ``profiles``.
     """
     from .perception.pipeline import Perception, make_pose_estimator
 
+    backend = pose_backend_for(dataset, pose)
+    if backend is not None:
+        profiles = {n: p.with_overrides({"pose.backend": backend}, "evaluate --pose") for n, p in profiles.items()}
     reports = {name: Report(name, labels={k: dataset.label(k) for k in dataset.objects}) for name in profiles}
     engines: dict[str, Any] = {}
     rigs: dict[tuple, Any] = {}

@@ -111,6 +111,7 @@ def plot_accuracy_vs_range(reports: Mapping[str, Report], path: str | Path, bin_
                 ax.annotate(f"n={nv}", (xv, yv), textcoords="offset points", xytext=(4, 5 + 9 * k),
                             fontsize=7, color=colour)
         ax.set_ylim(-0.05, 1.2)
+        ax.margins(x=0.1)
         ax.set_xlabel(xlabel)
         ax.set_ylabel("hit rate (chosen = intended)")
         ax.grid(alpha=0.3)

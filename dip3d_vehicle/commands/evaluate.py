@@ -13,7 +13,7 @@ import sys
 from ..config import load_params
 from ..dataset import load_dataset
 from ..errors import ParamsError
-from ..evaluation import Progress, evaluate_dataset, format_summary, format_table
+from ..evaluation import Progress, evaluate_dataset, format_summary, format_table, pose_backend_for
 from ._common import add_params_arguments
 
 NAME = "evaluate"
@@ -27,6 +27,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--plots", metavar="DIR", help="write chosen_objects.png (Fig. 6) and accuracy_vs_range.png")
     parser.add_argument("--compare", metavar="P1,P2",
                         help="profiles to evaluate on the same frames (default paper,default unless --profile)")
+    parser.add_argument("--pose", choices=["auto", "keypoints", "blazepose", "params"], default="auto",
+                        help="pose source: auto = the annotations' keypoints when they have them, else "
+                             "pose.backend; params = always pose.backend (default auto)")
     parser.add_argument("--progress", action="store_true", help="progress bar on stderr even when it is not a TTY")
     parser.add_argument("--no-progress", action="store_true", help="no progress bar")
     add_params_arguments(parser)
@@ -50,7 +53,7 @@ def run(args: argparse.Namespace) -> int:
     enabled = not args.no_progress and (args.progress or sys.stderr.isatty())
     progress = Progress(len(dataset.frames), sys.stderr, enabled, "evaluate")
     try:
-        reports = evaluate_dataset(dataset, profiles, progress)
+        reports = evaluate_dataset(dataset, profiles, progress, pose=args.pose)
     finally:
         progress.close()
     written = []
@@ -64,7 +67,9 @@ def run(args: argparse.Namespace) -> int:
         print(json.dumps({"dataset": str(dataset.root), "frames": len(dataset.frames),
                           "profiles": {n: r.to_json() for n, r in reports.items()}, "plots": written}))
         return 0
-    print(f"dataset {dataset.root}: {len(dataset.frames)} annotated pairs")
+    backend = pose_backend_for(dataset, args.pose)
+    print(f"dataset {dataset.root}: {len(dataset.frames)} annotated pairs; pose from "
+          f"{'annotated keypoints' if backend == 'keypoints' else backend or 'pose.backend'}")
     for report in reports.values():
         print()
         print(format_summary(report))

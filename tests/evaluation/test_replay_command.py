@@ -36,7 +36,7 @@ def _write_log(path, dataset_dir, meta, params):
 @pytest.fixture(scope="module")
 def run_log(sim_dataset, tmp_path_factory):
     path = tmp_path_factory.mktemp("replay") / "dive.dlog"
-    params = load_params("paper")
+    params = load_params("paper", overrides={"pose.backend": "keypoints"})  # the simulator's pose source
     decisions = _write_log(path, sim_dataset, {"calib": str(sim_dataset / "calib.yaml")}, params)
     return path, decisions
 
@@ -63,17 +63,17 @@ def test_other_params_change_decisions(run_log, capsys):
 
 
 def test_params_rebuilt_from_the_header():
-    header = {"params": {**load_params("paper"), "old.removed_key": 3}}
+    header = {"params": {**load_params("paper", overrides={"pose.backend": "keypoints"}), "old.removed_key": 3}}
     params, unknown = replay_params(header, sets=["selection.extension_factor=2.5"])
     assert unknown == ["old.removed_key"]
     assert params["selection.method"] == "paper" and params["selection.extension_factor"] == 2.5
-    assert params["candidates.lowe_ratio"] == 0.3
+    assert params["candidates.lowe_ratio"] == 0.3 and params["pose.backend"] == "keypoints"
     params, _ = replay_params(header, profile="default")
     assert params["selection.method"] == "default"
 
 
 def test_embedded_calibration_and_missing_calibration(sim_dataset, tmp_path, capsys):
-    params = load_params("default")
+    params = load_params("default", overrides={"pose.backend": "keypoints"})
     text = (sim_dataset / "calib.yaml").read_text()
     embedded = tmp_path / "embedded.dlog"
     decisions = _write_log(embedded, sim_dataset, {"calib_opencv_yaml": text}, params)
