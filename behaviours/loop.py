@@ -212,13 +212,16 @@ class PerceptionWorker:
         source: an open StereoSource (iterable of StereoFrame).
         processor: the FrameProcessor.
         need: callable returning the mission's current need ("full" / "track").
+        roi: callable returning the tracker's search box (or None), used for "track".
         clock: the loop clock (a WallClock onboard); frames are stamped with it on arrival.
         max_frame_age_s: skip frames older than this.
     """
 
     def __init__(self, source, processor: FrameProcessor, need: Callable[[], str], clock,
-                 max_frame_age_s: float = 0.5) -> None:
+                 max_frame_age_s: float = 0.5, roi: Callable[[], Any] | None = None) -> None:
         self.source, self.processor, self.need, self.clock = source, processor, need, clock
+        self.roi = roi
+        self.busy = False
         self.max_frame_age_s = max_frame_age_s
         self._lock = threading.Lock()
         self._frame: tuple[float, StereoFrame] | None = None
@@ -275,11 +278,16 @@ class PerceptionWorker:
             if self.clock.now() - stamp > self.max_frame_age_s:
                 self.stale_frames += 1
                 continue
+            self.busy = True
             try:
-                obs = self.processor.process(frame, self.need(), stamp)
+                need = self.need()
+                roi = self.roi() if (self.roi is not None and need == "track") else None
+                obs = self.processor.process(frame, need, stamp, roi)
             except BaseException as exc:  # noqa: BLE001
                 self.error = exc
                 return
+            finally:
+                self.busy = False
             with self._lock:
                 if self._result is not None:
                     self.dropped_results += 1

@@ -1,0 +1,56 @@
+"""The target tracker keeps the chosen placard's identity on a rendered approach sequence."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from behaviours.loop import FrameProcessor
+from behaviours.tracker import TargetTracker, TrackerConfig, predict_xyz
+from dip3d_vehicle.config import load_params
+from dip3d_vehicle.perception.keypoints_file import GivenKeypoints
+from dip3d_vehicle.perception.pipeline import Perception
+from dip3d_vehicle.servo.command import VelocityCommand
+from sitl.render import StereoRenderer
+from sitl.scenario import load_scenario
+from sitl.simulation import sim_params
+
+
+def test_prediction_turns_and_translates_the_point():
+    p = predict_xyz(np.array([0.0, 0.0, 2.0]), VelocityCommand(yaw_rate_rad_s=0.5), 1.0)
+    assert p[0] < 0 and math.isclose(np.linalg.norm(p), 2.0)
+    p = predict_xyz(np.array([0.0, 0.0, 2.0]), VelocityCommand(surge_m_s=0.5, heave_m_s=0.1), 1.0)
+    assert np.allclose(p, [0.0, -0.1, 1.5])
+    assert np.allclose(predict_xyz(np.array([1.0, 2.0, 3.0]), None, 1.0), [1.0, 2.0, 3.0])
+
+
+@pytest.mark.slow
+def test_tracker_keeps_the_target_while_the_vehicle_approaches_and_turns():
+    sc = load_scenario("paper_pool", 0)  # diver at position 3 points at placard 2
+    params = sim_params(load_params(), sc)
+    rig = sc.rig(params["calib.alpha"])
+    pose = GivenKeypoints("right")
+    processor = FrameProcessor(Perception(rig, params, pose), lambda f: pose.provide(f.meta["keypoints"]))
+    v = sc.initial_vehicle_pose
+    with StereoRenderer(sc, params) as renderer:
+        first = processor.process(renderer.render(v.north_m, v.east_m, v.depth_m, v.yaw_rad, 2.5), "full")
+        sel = first.result.selection
+        tracker = TargetTracker(TrackerConfig.from_params(params), rig)
+        tracker.start(sel.target, first.result.candidates, 2.5)
+        target = np.asarray(sc.placard(sc.target_id).centre_ned_m)
+        bearing = math.atan2(target[1] - v.east_m, target[0] - v.north_m)
+        for k in range(1, 5):
+            s = k / 4
+            north, east = v.north_m + 0.25 * k * math.cos(bearing), v.east_m + 0.25 * k * math.sin(bearing)
+            yaw = v.yaw_rad + s * bearing
+            frame = renderer.render(north, east, v.depth_m, yaw, 2.5 + k)
+            obs = processor.process(frame, "track")
+            found = tracker.update(obs.track.candidates, obs.track.xyz_m, 2.5 + k)
+            assert found is not None, f"lost at step {k}"
+            truth = {pid: rig.R1 @ np.asarray(info["xyz_cam_m"]) for pid, info in frame.meta["placards"].items()}
+            nearest = min(truth, key=lambda pid: np.linalg.norm(truth[pid] - found.xyz_m))
+            assert nearest == sc.target_id, f"step {k}: tracked placard {nearest}"
+            assert np.linalg.norm(truth[sc.target_id] - found.xyz_m) < 0.15
+    assert tracker.misses == 0
