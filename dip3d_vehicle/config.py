@@ -180,7 +180,7 @@ def _read_yaml_lines(text: str, where: str) -> list[tuple[str, Any, int]]:
     except yaml.YAMLError as exc:
         mark = getattr(exc, "problem_mark", None)
         line = f":{mark.line + 1}" if mark else ""
-        raise ParamsError(f"{where}{line}: not valid YAML ({getattr(exc, 'problem', exc)})") from None
+        raise ParamsError(f"{where}{line}: not valid YAML ({' '.join(str(getattr(exc, 'problem', exc)).split())})") from None
     if node is None:
         return []
     if not isinstance(node, yaml.MappingNode):
@@ -200,7 +200,7 @@ def _walk(node: yaml.MappingNode, prefix: str, where: str) -> Iterator[tuple[str
             try:
                 value = loader.construct_object(value_node, deep=True)
             except yaml.YAMLError as exc:
-                raise ParamsError(f"{where}:{line}: {key}: bad value ({exc})") from None
+                raise ParamsError(f"{where}:{line}: {key}: bad value ({' '.join(str(exc).split())})") from None
             yield key, value, line
 
 

@@ -130,6 +130,9 @@ class Autopilot:
         self.counters: dict[str, int] = {"manual_control_ignored": 0, "setpoints_ignored": 0,
                                          "messages_in": 0}
         self._t0 = clock.now()
+        self._boot_t0 = self._t0  # time_boot_ms origin (reset by reboot(); physics keeps _t0)
+        self._down_until_s: float | None = None  # rebooting: silent and deaf until then
+        self.reboots = 0
         self._k = 0  # physics sub-steps done
         self._last_pilot_input_s = -math.inf
         self._fs_pilot = False
@@ -161,13 +164,20 @@ class Autopilot:
 
     @property
     def time_boot_s(self) -> float:
-        """Seconds since the autopilot started (on its clock)."""
-        return self.clock.now() - self._t0
+        """Seconds since the autopilot (re)booted (on its clock)."""
+        return self.clock.now() - self._boot_t0
 
     def step(self) -> None:
         """Read all sockets, handle messages, advance the dynamics to now, send due telemetry."""
         now = self.clock.now()
+        rebooting = self._down_until_s is not None and now < self._down_until_s
+        if self._down_until_s is not None and not rebooting:
+            self._down_until_s = None
+            self._boot_t0 = now
+            self._event("booted", self.reboots)
         for link, msg in self.endpoint.poll():
+            if rebooting:
+                continue  # a rebooting autopilot hears nothing
             self.counters["messages_in"] += 1
             self._handle(link, msg, now)
         target_k = int(math.floor((now - self._t0) / self._dt + 1e-9))
@@ -175,7 +185,30 @@ class Autopilot:
             t = self._t0 + self._k * self._dt
             self._control_step(t)
             self._k += 1
-        self._send_telemetry(now)
+        if not rebooting:
+            self._send_telemetry(now)
+
+    def reboot(self, gap_s: float = 2.0) -> None:
+        """Reboot as ArduSub does (e.g. a watchdog or the pilot's reboot button).
+
+        Disarms at once, boots in MANUAL with default stream intervals and a new ``time_boot_ms``
+        origin; for ``gap_s`` seconds it sends nothing (no HEARTBEAT) and ignores every message.
+        Parameters (``ap_params``, e.g. SYSID_MYGCS) and the sockets are kept (the links stay
+        connected, as to a router); signing keys are kept (ArduSub stores them).
+        """
+        now = self.clock.now()
+        self.reboots += 1
+        self._event("reboot", gap_s)
+        self.armed = False
+        self.mode = MODE_NUMBERS["MANUAL"]
+        self.pilot, self.guided = PilotInput(), GuidedTarget()
+        self.controller.depth_hold_m = None
+        self._fs_pilot = self._fs_gcs = False
+        self._gcs_seen, self._gcs_last_s = False, -math.inf
+        self._last_pilot_input_s = now
+        for link in self.endpoint.links:
+            self._init_link(link)
+        self._down_until_s = now + max(0.0, float(gap_s))
 
     def set_mode(self, mode: int) -> bool:
         """Change mode as a MAV_CMD_DO_SET_MODE would; return False (with STATUSTEXT) if refused."""
@@ -479,7 +512,7 @@ class Autopilot:
 
     def _telemetry(self, msg_id: int, now: float) -> Any | None:
         s = self.state
-        t_ms = int(round((now - self._t0) * 1000)) & 0xFFFFFFFF
+        t_ms = int(round((now - self._boot_t0) * 1000)) & 0xFFFFFFFF
         heading_cd = int(round(math.degrees(s.yaw_rad) * 100)) % 36000
         if msg_id == M.MAVLINK_MSG_ID_HEARTBEAT:
             base = _BASE_MODE | (M.MAV_MODE_FLAG_SAFETY_ARMED if self.armed else 0)

@@ -177,6 +177,8 @@ def _read_filestorage(path: Path, name: str) -> dict[str, Any]:
         if not fs.isOpened() or not root.isMap():
             raise CalibrationError(f"{name}: expected a mapping of calibration keys at the top level")
         return {key: _fs_value(root.getNode(key), key, name) for key in root.keys()}
+    except (UnicodeDecodeError, cv2.error) as exc:  # non-UTF-8 key or string, malformed node
+        raise CalibrationError(f"{name}: not a valid OpenCV calibration file ({_cv_reason(exc)})") from None
     finally:
         fs.release()
 
