@@ -34,6 +34,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--no-progress", action="store_true", help="no progress bar")
     add_params_arguments(parser)
     parser.set_defaults(profile=None)
+    for action in parser._actions:
+        if action.dest == "profile":
+            action.help = "evaluate only this profile (default: paper and default, see --compare)"
 
 
 def profile_names(args: argparse.Namespace) -> list[str]:

@@ -47,6 +47,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="a target that moved more than this counts as changed (default 2 px)")
     add_params_arguments(parser)
     parser.set_defaults(profile=None)
+    for action in parser._actions:
+        if action.dest == "profile":
+            action.help = "start from this profile instead of the parameters recorded in the log"
 
 
 def replay_params(header: Mapping[str, Any], profile: str | None = None, files: list[str] | tuple = (),
