@@ -178,6 +178,11 @@ class SimPilot:
         self.armed = False
         self.mode = ""
         self.statustexts: list[tuple[float, str]] = []
+        # A pilot flying GUIDED has the joystick connected: it streams centred sticks (as QGC does),
+        # which keeps ArduSub's pilot-input failsafe quiet; GUIDED ignores them. In ALT_HOLD the
+        # controller's own MANUAL_CONTROL is the pilot input, and a second stream would fight it.
+        self.joystick = engage_mode == "GUIDED"
+        self._next_stick = 0.0
         self.acks: list[tuple[float, int, int]] = []
 
     def step(self) -> None:
@@ -191,6 +196,9 @@ class SimPilot:
         if self.heartbeats and now >= self._next_hb:
             self.conn.mav.heartbeat_send(m2.MAV_TYPE_GCS, m2.MAV_AUTOPILOT_INVALID, 0, 0, 0)
             self._next_hb = now + 1.0
+        if self.joystick and now >= self._next_stick:
+            self.conn.mav.manual_control_send(1, 0, 0, 500, 0, 0)
+            self._next_stick = now + 0.1
         if not self.handed_over and now >= self._next_try:
             self._next_try = now + 1.0
             if not self.armed:
@@ -562,7 +570,8 @@ class Simulation:
             dis = out.get("disengaged_at_s")
             after = [row for row in self.trajectory if dis is not None and row[0] >= dis + 1.0]
             out["max_abs_yaw_rate_1s_after_disengage"] = round(max((abs(r[5]) for r in after), default=math.nan), 4)
-            zero_cmd = next((r.t_s for r in self.received if dis is not None and r.t_s >= dis and not r.motion), None)
+            zero_cmd = next((r.t_s for r in self.received if dis is not None and r.t_s >= dis and not r.motion
+                             and r.kind == "SET_POSITION_TARGET_LOCAL_NED"), None)
             out["zero_yaw_rate_sent_after_s"] = None if zero_cmd is None else round(zero_cmd - dis, 3)
         if f.kind == "perception_stall":
             stale_from = None
