@@ -10,8 +10,8 @@ selection accuracy and the ratio of each profile's frame rate to ``paper``'s.
 Pose: every profile's pose backend is BlazePose, timed for real on every frame (``paper`` runs it
 as the paper ran MediaPipe: detection on both images every frame, no tracking). The simulator's
 diver is a cartoon that BlazePose does not always find; on such frames the rest of the pipeline
-uses the simulator's noisy truth keypoints (``meta["keypoints"]``), and the report counts which
-frames used which (``pose_source``). The hybrid is ``BenchPose`` below, not a pose backend.
+uses the simulator's noisy truth keypoints (``meta["keypoints"]``), as it does when BlazePose's
+arm is below ``pose.min_confidence``; the report counts which frames used which (``pose_source``). The hybrid is ``BenchPose`` below, not a pose backend.
 
 Accuracy (simulated frames): a frame is correct when the selected target's left-image point
 (original pixels) lies inside the intended placard's polygon (``meta["placards"][id]``).
@@ -22,7 +22,9 @@ Where the reset is not available the process's ``ru_maxrss`` is reported (monoto
 
 Latency (``latency_run``): frames arrive at the camera rate into a ``PerceptionWorker`` (newest
 frame wins); a setpoint tick at ``setpoint_hz`` consumes the newest result; frame-to-setpoint
-latency = send time of the first setpoint using a result - capture time of its frame.
+latency = send time of the first setpoint using a result - capture time of its frame (results
+older than ``max_age_s`` are stale: never used, counted); capture-to-result = when the worker
+finished a frame - its capture time, for every result.
 """
 
 from __future__ import annotations
@@ -148,32 +150,39 @@ def folder_frames(spec: str, calib: str | Sequence[str], max_frames: int = 0) ->
 
 
 class BenchPose(PoseEstimator):
-    """BlazePose on every frame; the frame's given keypoints when BlazePose finds no person.
+    """BlazePose on every frame; the frame's given keypoints when BlazePose gives no usable arm.
 
-    ``provide(keypoints)`` before each frame (None when the source has none). ``last_source`` is
-    "blazepose", "truth" or "none"; ``counts`` sums them.
+    Usable = a person found and every arm keypoint's confidence at least ``min_confidence`` (the
+    pipeline's ``pose.min_confidence``): the simulator's cartoon diver often yields a person with a
+    low-confidence wrist. ``provide(keypoints)`` before each frame (None when the source has none).
+    ``last_source`` is "blazepose", "truth (no person)", "truth (low confidence)" or "none";
+    ``counts`` sums them.
     """
 
     name = "bench"
+    SOURCES = ("blazepose", "truth (no person)", "truth (low confidence)", "none")
 
-    def __init__(self, backend: PoseEstimator, arm: str) -> None:
+    def __init__(self, backend: PoseEstimator, arm: str, min_confidence: float = 0.0) -> None:
         self.backend = backend
         self.given = GivenKeypoints(arm)
+        self.min_confidence = float(min_confidence)
         self.last_source = "none"
-        self.counts = {"blazepose": 0, "truth": 0, "none": 0}
+        self.counts = dict.fromkeys(self.SOURCES, 0)
 
     def provide(self, keypoints: dict | None) -> None:
         """Set the fallback keypoints of the next frame."""
         self.given.provide(keypoints)
 
     def estimate(self, left_rect: np.ndarray, right_rect: np.ndarray, rig: StereoRig) -> ArmKeypoints | None:
-        """Return BlazePose's arm, else the given keypoints (rectified pixels), else None."""
+        """Return BlazePose's arm if usable, else the given keypoints (rectified pixels), else None."""
         arm = self.backend.estimate(left_rect, right_rect, rig)
-        if arm is None:
-            arm = self.given.estimate(left_rect, right_rect, rig)
-            self.last_source = "truth" if arm is not None else "none"
-        else:
+        if arm is not None and arm.min_confidence() >= self.min_confidence:
             self.last_source = "blazepose"
+        else:
+            why = "truth (no person)" if arm is None else "truth (low confidence)"
+            given = self.given.estimate(left_rect, right_rect, rig)
+            self.last_source = why if given is not None else "none"
+            arm = given if given is not None else arm
         self.counts[self.last_source] += 1
         return arm
 
@@ -197,7 +206,7 @@ def make_perception(profile: str, rig: StereoRig, overrides: Mapping[str, Any] |
                     ) -> tuple[Perception, BenchPose]:
     """Return the profile's perception core with the bench's hybrid pose."""
     params = profile_params(profile, overrides)
-    pose = BenchPose(make_pose_estimator(params), params["pose.arm"])
+    pose = BenchPose(make_pose_estimator(params), params["pose.arm"], params["pose.min_confidence"])
     return Perception(rig, params, pose), pose
 
 
@@ -374,6 +383,7 @@ def latency_run(profile: str, data: BenchFrames, camera_hz: float = 10.0, setpoi
 
     cam = threading.Thread(target=camera, name="camera", daemon=True)
     latencies, ages, ticks, empty, tick_late = [], [], 0, 0, []
+    processing, seen_seq = [], -1
     period, t_end = 1.0 / setpoint_hz, clock() + duration_s
     cam.start()
     t_next = clock()
@@ -384,6 +394,10 @@ def latency_run(profile: str, data: BenchFrames, camera_hz: float = 10.0, setpoi
             time.sleep(delay)
         now = clock()
         tick_late.append((now - t_next) * 1e3)
+        newest = worker.peek()
+        if newest is not None and newest.seq != seen_seq:
+            seen_seq = newest.seq
+            processing.append((newest.done_s - newest.stamp_s) * 1e3)
         new = worker.take_new()
         ticks += 1
         if new is not None:
@@ -400,6 +414,8 @@ def latency_run(profile: str, data: BenchFrames, camera_hz: float = 10.0, setpoi
     return {"profile": profile, "camera_hz": camera_hz, "setpoint_hz": setpoint_hz, "duration_s": duration_s,
             "frame_to_setpoint_ms": {"p50": _pct(latencies, 50), "p99": _pct(latencies, 99),
                                      "max": _pct(latencies, 100), "results": len(latencies)},
+            "capture_to_result_ms": {"p50": _pct(processing, 50), "p99": _pct(processing, 99),
+                                     "results": len(processing)},
             "setpoint_result_age_ms": {"p50": _pct(ages, 50), "p99": _pct(ages, 99)},
             "setpoints_sent": ticks, "setpoints_without_result": empty,
             "setpoint_tick_lateness_ms": {"p50": _pct(tick_late, 50), "p99": _pct(tick_late, 99)},
@@ -436,7 +452,9 @@ def format_table(report: Mapping[str, Any]) -> str:
         fl = lat["frame_to_setpoint_ms"]
         lines += ["", f"latency ({lat['profile']}, camera {lat['camera_hz']:g} Hz, setpoints {lat['setpoint_hz']:g} Hz, "
                   f"{lat['duration_s']:g} s): frame-to-setpoint p50 {_fmt(fl['p50'])} ms, p99 {_fmt(fl['p99'])} ms "
-                  f"({fl['results']} results); frames submitted {lat['frames_submitted']}, processed "
+                  f"({fl['results']} fresh results used; capture-to-result p50 "
+                  f"{_fmt(lat['capture_to_result_ms']['p50'])} p99 {_fmt(lat['capture_to_result_ms']['p99'])} ms); "
+                  f"frames submitted {lat['frames_submitted']}, processed "
                   f"{lat['frames_processed']}, dropped {lat['frames_dropped']}, stale results {lat['stale_results']}; "
                   f"setpoints {lat['setpoints_sent']} ({lat['setpoints_without_result']} without a result)"]
     first = next(iter(report["profiles"].values()), None)

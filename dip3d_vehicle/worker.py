@@ -140,6 +140,11 @@ class PerceptionWorker:
             self._taken_seq = found.seq
             return found
 
+    def peek(self) -> Finished | None:
+        """Return the newest finished frame whatever its age (for statistics; not for control)."""
+        with self._cond:
+            return self._latest
+
     @property
     def busy(self) -> bool:
         """True while a frame is being processed."""
