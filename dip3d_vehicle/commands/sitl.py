@@ -43,6 +43,8 @@ def run(args: argparse.Namespace) -> int:
     from sitl.scenario import load_scenario
     from sitl.simulation import Simulation, sim_params
 
+    import logging
+    logging.getLogger("dip3d_vehicle.link").setLevel(logging.ERROR)  # its warnings are in the story
     if args.speed is not None and not args.speed > 0:
         raise Dip3dError(f"--speed {args.speed}: must be > 0")
     params = params_from_args(args)
@@ -85,15 +87,17 @@ def print_story(result, out: Path) -> None:
     print(f"sitl: scenario {result.scenario} seed {result.seed}: diver at position {result.diver_position} "
           f"points at placard {result.target_id}")
     for line in result.story:
-        if "WARNING manual_control" in line:
-            continue
-        print("  " + line)
-    verdict = "ARRIVED" if result.arrived else "did NOT arrive"
-    right = "the right placard" if result.chosen_id == result.target_id else f"placard {result.chosen_id}"
-    print(f"sitl: {verdict} at {right} after {_fmt(result.time_to_arrive_s, 's')}; range at arrival "
-          f"{_fmt(result.range_at_arrival_m, 'm')} (error {_fmt(result.range_error_at_arrival_m, 'm')}), "
-          f"final range {_fmt(result.final_range_m, 'm')}, {result.sim_time_s:.1f} s simulated in "
-          f"{result.wall_time_s:.1f} s")
+        print("  " + (line[:160] + " ..." if len(line) > 170 else line))
+    if result.arrived:
+        which = "the pointed placard" if result.chosen_id == result.target_id else f"placard {result.chosen_id} (WRONG)"
+        print(f"sitl: ARRIVED at {which} {result.time_to_arrive_s:.1f} s into the run; true range at arrival "
+              f"{_fmt(result.range_at_arrival_m, 'm')} (error {_fmt(result.range_error_at_arrival_m, 'm')}), at the end "
+              f"{_fmt(result.final_range_m, 'm')}; {'within' if result.reached else 'OUTSIDE'} the stand-off tolerance")
+    else:
+        tracked = f"tracking placard {result.chosen_id}" if result.chosen_id is not None else "no target chosen"
+        print(f"sitl: did NOT arrive ({tracked}); pointed placard {result.target_id} at "
+              f"{_fmt(result.final_range_m, 'm')} at the end")
+    print(f"sitl: {result.sim_time_s:.1f} s simulated in {result.wall_time_s:.1f} s")
     print(f"sitl: wrote {out / 'run.log'}, {out / 'trajectory.png'}, {out / 'final_view.png'}")
 
 
@@ -128,8 +132,12 @@ def write_trajectory_plot(sim, result, path: Path) -> None:
     ax.grid(alpha=0.3)
     ax.legend(loc="best", fontsize=8)
     ax.set_title(f"{result.scenario} seed {result.seed}: {'arrived' if result.arrived else 'not arrived'}")
-    ax2.plot(t, [r[3] for r in traj], color="tab:blue")
-    ax2.invert_yaxis()
+    ax2.plot(t, [r[3] for r in traj], color="tab:blue", label="vehicle")
+    for p in sim.scenario.placards:
+        ax2.axhline(p.centre_ned_m[2], color="tab:green" if p.id == result.target_id else "tab:orange", lw=0.8,
+                    ls="--")
+    depths = [r[3] for r in traj] + [p.centre_ned_m[2] for p in sim.scenario.placards]
+    ax2.set_ylim(max(depths) + 0.2, min(depths) - 0.2)
     ax2.set_xlabel("time (s)")
     ax2.set_ylabel("depth (m)")
     ax2.grid(alpha=0.3)
@@ -171,4 +179,4 @@ def write_final_view(sim, result, path: Path) -> None:
     text = (f"t={result.sim_time_s:.1f}s state={sim.mission.state} target={result.target_id} "
             f"chosen={result.chosen_id} range={_fmt(result.final_range_m, 'm')}")
     cv2.putText(img, text, (20, 50), cv2.FONT_HERSHEY_SIMPLEX, 1.1, (255, 255, 255), 3)
-    cv2.imwrite(str(path), img)
+    cv2.imwrite(str(path), cv2.resize(img, None, fx=0.5, fy=0.5, interpolation=cv2.INTER_AREA))
