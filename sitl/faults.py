@@ -3,6 +3,7 @@
 A fault plan is a YAML file (``sitl/faults/*.yaml``)::
 
     seed: 0                    # optional; the campaign overrides it per trial
+    params: {link.gcs_timeout_s: 5.0}   # optional parameter overrides the plan is meant to run with
     link:                      # the relay between the controller and the autopilot's router
       drop: 0.2                # probability a packet is lost (each direction, independently)
       delay_s: 0.1             # one-way delay ...
@@ -123,6 +124,7 @@ class FaultPlan:
     events: tuple[FaultEvent, ...] = ()
     seed: int = 0
     source: str = "<plan>"
+    params: tuple[tuple[str, Any], ...] = ()
 
     @property
     def needs_relay(self) -> bool:
@@ -165,9 +167,10 @@ def parse_fault_plan(data: Any, where: str = "<plan>", seed: int | None = None) 
         data = {}
     if not isinstance(data, dict):
         raise ScenarioError(f"{where}: top level: expected a mapping, got {type(data).__name__}")
-    unknown = set(data) - {"seed", "link", "events", "description"}
+    unknown = set(data) - {"seed", "link", "events", "description", "params"}
     if unknown:
-        raise ScenarioError(f"{where}: unknown key(s) {sorted(map(str, unknown))}; expected seed, link, events")
+        raise ScenarioError(f"{where}: unknown key(s) {sorted(map(str, unknown))}; expected seed, link, events, "
+                            f"params, description")
     file_seed = data.get("seed", 0)
     if isinstance(file_seed, bool) or not isinstance(file_seed, int) or file_seed < 0:
         raise ScenarioError(f"{where}: seed: expected an integer >= 0, got {file_seed!r}")
@@ -187,7 +190,28 @@ def parse_fault_plan(data: Any, where: str = "<plan>", seed: int | None = None) 
     if not isinstance(events_data, list):
         raise ScenarioError(f"{where}: events: expected a list, got {type(events_data).__name__}")
     events = tuple(_event(e, f"{where}: events[{i}]", rng) for i, e in enumerate(events_data))
-    return FaultPlan(LinkFaults(**lk), events, seed, where)
+    return FaultPlan(LinkFaults(**lk), events, seed, where, _params(data.get("params"), where))
+
+
+def _params(data: Any, where: str) -> tuple[tuple[str, Any], ...]:
+    """Validate the plan's parameter overrides against the schema."""
+    from dip3d_vehicle.config import schema
+    from dip3d_vehicle.errors import ParamsError
+
+    if data is None:
+        return ()
+    if not isinstance(data, dict):
+        raise ScenarioError(f"{where}: params: expected a mapping of parameter: value, got {type(data).__name__}")
+    known = schema()
+    out = []
+    for key, value in data.items():
+        if key not in known:
+            raise ScenarioError(f"{where}: params.{key}: not a parameter (see dip3d-vehicle params show)")
+        try:
+            out.append((key, known[key].coerce(value, f"{where}: params.{key}")))
+        except ParamsError as exc:
+            raise ScenarioError(str(exc)) from None
+    return tuple(out)
 
 
 def _event(data: Any, where: str, rng: random.Random) -> FaultEvent:
