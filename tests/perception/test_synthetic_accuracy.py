@@ -7,7 +7,8 @@ distortion and small rotation between the cameras. Candidates are detected once 
 selector (the image side of the pipeline does not depend on keypoint noise); the arm keypoints get
 Gaussian noise of 0, 1, 2 and 4 px in both images over several draws. A frame counts as correct
 when the selected point lies inside the intended placard; a rejected pose counts as a miss (it
-gives the vehicle no decision).
+gives the vehicle no decision). Scenes that break the method's stated preconditions (the target
+touching the hand or inside the masked region, placards overlapping in the image) are drawn again.
 
 Run as a script for the full table: ``python tests/perception/test_synthetic_accuracy.py [N]``.
 """
@@ -66,6 +67,40 @@ def render_scene(tmp: Path, spec: dict, seed: int):
     return scenario, frame
 
 
+def method_applies(scenario, frame, offset_px: float = 40.0) -> bool:
+    """Return True when the scene meets DIP-3D's preconditions for the intended placard.
+
+    The diver is seen, the target lies wholly beyond the wrist (the region the method keeps), and
+    the placards are distinct objects in the image (no placard overlaps or hides another).
+    """
+    truth = frame.meta["keypoints_truth"]
+    if truth is None:
+        return False
+    placards = frame.meta["placards"]
+    target = np.asarray(placards[scenario.target_id]["left_polygon_px"], np.float32)
+    if target[:, 0].min() < truth["left"]["wrist"][0] + offset_px or not placards[scenario.target_id]["visible"]:
+        return False
+    polygons = [np.asarray(p["left_polygon_px"], np.float32) for p in placards.values()]
+    for i, a in enumerate(polygons):
+        for b in polygons[i + 1:]:
+            if cv2.intersectConvexConvex(a, b)[0] > 0:
+                return False
+    return True
+
+
+def scenes(tmp: Path, n_scenes: int, near: bool, seed0: int):
+    """Yield n_scenes (scenario, frame) pairs where the method applies (others are drawn again)."""
+    rng = np.random.default_rng(1234 + seed0)
+    made = 0
+    for k in range(20 * n_scenes):
+        scenario, frame = render_scene(tmp, scene_spec(rng, near), seed0 + k)
+        if method_applies(scenario, frame):
+            made += 1
+            yield scenario, frame
+            if made == n_scenes:
+                return
+
+
 def noisy(keypoints: dict, sigma_px: float, rng: np.random.Generator) -> dict:
     """Return a keypoints dict with Gaussian noise of sigma_px added to every point."""
     out = {"rectified": False, "source": "test"}
@@ -78,12 +113,8 @@ def noisy(keypoints: dict, sigma_px: float, rng: np.random.Generator) -> dict:
 def evaluate(tmp: Path, n_scenes: int, near: bool, draws: int, seed0: int = 0) -> dict:
     """Return {profile: {noise: (correct, trials)}} over generated scenes."""
     counts = {p: {n: [0, 0] for n in NOISE_PX} for p in ("paper", "default")}
-    rng = np.random.default_rng(1234 + seed0)
-    for k in range(n_scenes):
-        scenario, frame = render_scene(tmp, scene_spec(rng, near), seed0 + k)
+    for k, (scenario, frame) in enumerate(scenes(tmp, n_scenes, near, seed0)):
         truth = frame.meta["keypoints_truth"]
-        if truth is None:
-            continue
         polygon = np.asarray(frame.meta["placards"][scenario.target_id]["left_polygon_px"], np.float32)
         rig = scenario.rig()
         left_rect, right_rect = rig.rectify(frame.left, frame.right)
