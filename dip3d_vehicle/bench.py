@@ -52,8 +52,9 @@ from .worker import PerceptionWorker
 __all__ = ["BenchPose", "BenchFrames", "simulated_frames", "folder_frames", "run_profile", "run_bench",
            "latency_run", "format_table", "STAGES", "PAPER_STATIC_POSE"]
 
-STAGES = ("rectify", "pose", "candidates", "match", "triangulate", "select")
-"""Stages reported, in pipeline order (candidates = feature extraction, match = matching)."""
+STAGES = ("rectify", "pose", "candidates", "match", "triangulate", "select", "track")
+"""Stages reported, in pipeline order (candidates = feature extraction, match = matching, track =
+following the chosen object between keyframes, ``PROFILE+followN`` only)."""
 
 PAPER_STATIC_POSE = {"pose.backend": "blazepose", "blazepose.tracking": False, "blazepose.stereo_search": "detect"}
 """Overrides for ``paper``: BlazePose detection on both images every frame (MediaPipe static mode)."""
@@ -203,11 +204,32 @@ def profile_params(profile: str, overrides: Mapping[str, Any] | None = None):
 
 
 def make_perception(profile: str, rig: StereoRig, overrides: Mapping[str, Any] | None = None
-                    ) -> tuple[Perception, BenchPose]:
-    """Return the profile's perception core with the bench's hybrid pose."""
-    params = profile_params(profile, overrides)
+                    ) -> tuple[Any, BenchPose]:
+    """Return the profile's perception core with the bench's hybrid pose.
+
+    ``PROFILE+followN`` (e.g. ``fast+follow5``) wraps the core in ``FollowingPerception``: the core on
+    every N-th frame (keyframes), the chosen object followed by optical flow in between;
+    ``PROFILE+followNbg`` runs the keyframes in a background thread (no frame waits for them).
+    """
+    base, sep, follow = profile.partition("+follow")
+    background = follow.endswith("bg")
+    follow = follow[:-2] if background else follow
+    params = profile_params(base, overrides)
     pose = BenchPose(make_pose_estimator(params), params["pose.arm"], params["pose.min_confidence"])
-    return Perception(rig, params, pose), pose
+    core = Perception(rig, params, pose)
+    if sep:
+        from .perception.follow import FollowingPerception
+        return FollowingPerception(core, keyframe_interval=int(follow or 5), background=background), pose
+    return core, pose
+
+
+def _params_of(runner: Any):
+    return runner.core.params if hasattr(runner, "core") else runner.params
+
+
+def _reset(runner: Any, pose: BenchPose) -> None:
+    """Start a new frame sequence: forget tracking (and the followed object)."""
+    (runner.reset if hasattr(runner, "reset") else pose.reset)()
 
 
 def frame_correct(result_json: Mapping[str, Any], meta: Mapping[str, Any]) -> bool | None:
@@ -270,15 +292,17 @@ def run_profile(profile: str, data: BenchFrames, overrides: Mapping[str, Any] | 
         f = data.frames[-1]
         pose.provide(f.meta.get("keypoints"))
         perception.process(f.left, f.right)
-        pose.reset()
+        _reset(perception, pose)
         pose.counts = dict.fromkeys(pose.counts, 0)
+        if hasattr(perception, "counts"):
+            perception.counts = dict.fromkeys(perception.counts, 0)
     starts = set(data.sequences)
     wall, stages, sources, statuses, correct = [], {s: [] for s in STAGES}, [], {}, []
     cpu0 = time.process_time()
     with _PeakMemory() as mem:
         for i, frame in enumerate(data.frames):
             if i in starts:
-                pose.reset()
+                _reset(perception, pose)
             pose.provide(frame.meta.get("keypoints"))
             t0 = time.perf_counter()
             result = perception.process(frame.left, frame.right)
@@ -293,8 +317,10 @@ def run_profile(profile: str, data: BenchFrames, overrides: Mapping[str, Any] | 
                 correct.append(ok)
     cpu_ms = (time.process_time() - cpu0) * 1e3
     total_s = sum(wall) / 1e3
-    p = perception.params
+    p = _params_of(perception)
+    follow = getattr(perception, "counts", None)
     return {
+        "follow": None if follow is None else dict(follow, keyframe_interval=perception.keyframe_interval),
         "profile": profile,
         "frames": len(wall),
         "fps": round(len(wall) / total_s, 3) if total_s > 0 else None,
@@ -314,9 +340,13 @@ def run_profile(profile: str, data: BenchFrames, overrides: Mapping[str, Any] | 
     }
 
 
-def run_bench(data: BenchFrames, profiles: Sequence[str] = ("paper", "default", "fast"),
-              latency_profile: str | None = "fast", latency_s: float = 10.0) -> dict:
-    """Run every profile on the same frames; add each one's fps ratio to ``paper``'s."""
+def run_bench(data: BenchFrames, profiles: Sequence[str] = ("paper", "default", "fast", "fast+follow5bg"),
+              latency_profile: str | Sequence[str] | None = ("fast", "fast+follow5bg"), latency_s: float = 10.0) -> dict:
+    """Run every profile on the same frames; add each one's fps ratio to ``paper``'s.
+
+    ``latency_profile``: profile name(s) of the worker latency run(s) (``latency``: the first one,
+    ``latency_runs``: all).
+    """
     out = {"frames": data.description, "n_frames": len(data), "cpu_count": _cpus(),
            "load_average_1min_at_start": round(_load(), 2), "profiles": {}}
     for name in profiles:
@@ -324,8 +354,10 @@ def run_bench(data: BenchFrames, profiles: Sequence[str] = ("paper", "default", 
     base = out["profiles"].get("paper", {}).get("fps")
     for res in out["profiles"].values():
         res["fps_ratio_to_paper"] = round(res["fps"] / base, 2) if base and res["fps"] else None
-    if latency_profile:
-        out["latency"] = latency_run(latency_profile, data, duration_s=latency_s)
+    names = [latency_profile] if isinstance(latency_profile, str) else list(latency_profile or ())
+    runs = [latency_run(name, data, duration_s=latency_s) for name in names if name]
+    if runs:
+        out["latency"], out["latency_runs"] = runs[0], runs
     out["load_average_1min_at_end"] = round(_load(), 2)
     return out
 
@@ -362,7 +394,7 @@ def latency_run(profile: str, data: BenchFrames, camera_hz: float = 10.0, setpoi
     f0 = data.frames[0]
     pose.provide(f0.meta.get("keypoints"))
     perception.process(f0.left, f0.right)  # warm-up
-    pose.reset()
+    _reset(perception, pose)
 
     def process(frame: StereoFrame):
         pose.provide(frame.meta.get("keypoints"))
@@ -447,8 +479,7 @@ def format_table(report: Mapping[str, Any]) -> str:
         cells = "".join(f"{_fmt(r['stages_ms'][s]['median']) + ' / ' + _fmt(r['stages_ms'][s]['p99']):>18}"
                         for s in STAGES)
         lines.append(f"{name:<10}{cells}")
-    lat = report.get("latency")
-    if lat:
+    for lat in report.get("latency_runs", []):
         fl = lat["frame_to_setpoint_ms"]
         lines += ["", f"latency ({lat['profile']}, camera {lat['camera_hz']:g} Hz, setpoints {lat['setpoint_hz']:g} Hz, "
                   f"{lat['duration_s']:g} s): frame-to-setpoint p50 {_fmt(fl['p50'])} ms, p99 {_fmt(fl['p99'])} ms "
@@ -457,6 +488,12 @@ def format_table(report: Mapping[str, Any]) -> str:
                   f"frames submitted {lat['frames_submitted']}, processed "
                   f"{lat['frames_processed']}, dropped {lat['frames_dropped']}, stale results {lat['stale_results']}; "
                   f"setpoints {lat['setpoints_sent']} ({lat['setpoints_without_result']} without a result)"]
+    follows = {n: r["follow"] for n, r in report["profiles"].items() if r.get("follow")}
+    for name, counts in follows.items():
+        lines.append(f"{name}: keyframes {counts['keyframes']}, followed frames {counts['followed']}, lost "
+                     f"{counts['lost']}, frames that waited for a keyframe {counts['waited']} "
+                     f"(fast profile + FollowingPerception, keyframe every {counts['keyframe_interval']} frames"
+                     f"{', in the background' if name.endswith('bg') else ''})")
     first = next(iter(report["profiles"].values()), None)
     if first:
         lines.append(f"memory: peak RSS per profile, {first['memory_method']}; cpu ms = process CPU time "

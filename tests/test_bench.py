@@ -13,22 +13,25 @@ from dip3d_vehicle.cli import main
 @pytest.fixture(scope="module")
 def tiny_report():
     data = simulated_frames("paper_pool", seeds=(1,), frames_per_seed=2, size=(640, 480))
-    return run_bench(data, ("paper", "fast"), latency_profile="fast", latency_s=0.6)
+    return run_bench(data, ("paper", "fast", "fast+follow2bg"), latency_profile="fast", latency_s=0.6)
 
 
 def test_report_has_every_profile_metric(tiny_report):
     assert tiny_report["n_frames"] == 2
-    for name in ("paper", "fast"):
+    for name in ("paper", "fast", "fast+follow2bg"):
         r = tiny_report["profiles"][name]
         assert r["frames"] == 2 and r["fps"] > 0
         assert set(r["stages_ms"]) == set(STAGES)
         assert {"p50", "p99"} <= set(r["latency_ms"])
         assert r["peak_rss_mib"] > 0 and r["cpu_ms_per_frame"] >= 0
         assert r["scored_frames"] == 2 and 0.0 <= r["accuracy"] <= 1.0
-        assert sum(r["pose_source"].values()) == 2
+        assert 1 <= sum(r["pose_source"].values()) <= 2   # followed frames run no pose
     assert tiny_report["profiles"]["paper"]["fps_ratio_to_paper"] == 1.0
     assert tiny_report["profiles"]["paper"]["pose_settings"]["tracking"] is False
     assert tiny_report["profiles"]["fast"]["pose_settings"]["tracking"] is True
+    follow = tiny_report["profiles"]["fast+follow2bg"]["follow"]
+    assert follow["keyframe_interval"] == 2 and follow["keyframes"] >= 1
+    assert follow["keyframes"] + follow["followed"] + follow["lost"] >= 2
 
 
 def test_latency_run_counts_frames(tiny_report):

@@ -1,0 +1,47 @@
+"""FollowingPerception: keyframes with the full core, the chosen object followed between them."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from dip3d_vehicle.bench import frame_correct, simulated_frames
+from dip3d_vehicle.config import load_params
+from dip3d_vehicle.perception.follow import FollowingPerception
+from dip3d_vehicle.perception.keypoints_file import GivenKeypoints
+from dip3d_vehicle.perception.pipeline import Perception
+
+
+@pytest.fixture(scope="module")
+def frames():
+    return simulated_frames("paper_pool", seeds=(1,), frames_per_seed=4)   # 1600x1200: fast's SIFT scale
+
+
+@pytest.mark.parametrize("background", [False, True])
+def test_followed_frames_stay_on_the_chosen_placard(frames, background):
+    pose = GivenKeypoints("right")
+    core = Perception(frames.rig, load_params("fast", (), {"pose.backend": "keypoints"}), pose)
+    follower = FollowingPerception(core, keyframe_interval=3, background=background)
+    kinds, correct = [], []
+    for f in frames.frames:
+        pose.provide(f.meta["keypoints"])
+        result = follower.process(f.left, f.right)
+        kinds.append(follower.last_kind)
+        correct.append(frame_correct(result.to_json(frames.rig), f.meta))
+    follower.close()
+    assert kinds[0] == "keyframe" and "followed" in kinds
+    assert all(correct)
+    assert follower.counts["lost"] == 0
+
+
+def test_lost_object_forces_a_keyframe(frames):
+    pose = GivenKeypoints("right")
+    core = Perception(frames.rig, load_params("fast", (), {"pose.backend": "keypoints"}), pose)
+    follower = FollowingPerception(core, keyframe_interval=10)
+    f0, f1 = frames.frames[0], frames.frames[1]
+    pose.provide(f0.meta["keypoints"])
+    follower.process(f0.left, f0.right)
+    blank = np.zeros_like(f1.left)
+    pose.provide(f1.meta["keypoints"])
+    follower.process(blank, blank)     # nothing to follow in a blank pair: the core runs instead
+    assert follower.last_kind == "keyframe" and follower.counts["keyframes"] == 2
