@@ -27,7 +27,6 @@ import math
 import socket
 import time
 from dataclasses import dataclass, field
-from pathlib import Path
 from typing import Any, Mapping
 
 import numpy as np

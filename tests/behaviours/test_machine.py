@@ -13,7 +13,6 @@ from behaviours.evidence import VoteBox, angular_spread_rad, is_raised
 from behaviours.loop import build_mission
 from behaviours.machine import PERCEPTION_STALE, STATES, TRANSITIONS
 from behaviours.states import STATE_CLASSES
-from dip3d_vehicle.clock import SimClock
 from dip3d_vehicle.config import load_params
 from dip3d_vehicle.perception.pipeline import PerceptionResult
 from dip3d_vehicle.perception.values import Arm3D, ArmKeypoints, Candidates, ObjectCandidate, Selection
