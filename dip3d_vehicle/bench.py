@@ -464,21 +464,21 @@ def format_table(report: Mapping[str, Any]) -> str:
     lines = [f"frames: {report['frames']}",
              f"cpus: {report['cpu_count']}  load average (1 min) at start {report['load_average_1min_at_start']}, "
              f"at end {report.get('load_average_1min_at_end')}"]
-    head = (f"{'profile':<10}{'fps':>8}{'x paper':>9}{'p50 ms':>9}{'p99 ms':>9}{'cpu ms':>9}{'peak MiB':>10}"
+    head = (f"{'profile':<16}{'fps':>8}{'x paper':>9}{'p50 ms':>9}{'p99 ms':>9}{'cpu ms':>9}{'peak MiB':>10}"
             f"{'accuracy':>10}  pose source")
     lines += ["", head, "-" * len(head)]
     for name, r in report["profiles"].items():
         acc = "n/a" if r["accuracy"] is None else f"{r['correct']}/{r['scored_frames']}"
         src = ", ".join(f"{k} {v}" for k, v in r["pose_source"].items() if v)
-        lines.append(f"{name:<10}{r['fps']:>8.2f}{_fmt(r['fps_ratio_to_paper']):>9}{_fmt(r['latency_ms']['p50']):>9}"
+        lines.append(f"{name:<16}{r['fps']:>8.2f}{_fmt(r['fps_ratio_to_paper']):>9}{_fmt(r['latency_ms']['p50']):>9}"
                      f"{_fmt(r['latency_ms']['p99']):>9}{_fmt(r['cpu_ms_per_frame']):>9}{r['peak_rss_mib']:>10.0f}"
                      f"{acc:>10}  {src}")
     lines += ["", "stage ms, median / p99"]
-    lines.append(f"{'profile':<10}" + "".join(f"{s:>18}" for s in STAGES))
+    lines.append(f"{'profile':<16}" + "".join(f"{s:>16}" for s in STAGES))
     for name, r in report["profiles"].items():
-        cells = "".join(f"{_fmt(r['stages_ms'][s]['median']) + ' / ' + _fmt(r['stages_ms'][s]['p99']):>18}"
+        cells = "".join(f"{_fmt(r['stages_ms'][s]['median']) + ' / ' + _fmt(r['stages_ms'][s]['p99']):>16}"
                         for s in STAGES)
-        lines.append(f"{name:<10}{cells}")
+        lines.append(f"{name:<16}{cells}")
     for lat in report.get("latency_runs", []):
         fl = lat["frame_to_setpoint_ms"]
         lines += ["", f"latency ({lat['profile']}, camera {lat['camera_hz']:g} Hz, setpoints {lat['setpoint_hz']:g} Hz, "
