@@ -217,10 +217,10 @@ def make_perception(profile: str, rig: StereoRig, overrides: Mapping[str, Any] |
     params = profile_params(base, overrides)
     pose = BenchPose(make_pose_estimator(params), params["pose.arm"], params["pose.min_confidence"])
     core = Perception(rig, params, pose)
+    from .perception.follow import FollowingPerception, with_following
     if sep:
-        from .perception.follow import FollowingPerception
         return FollowingPerception(core, keyframe_interval=int(follow or 5), background=background), pose
-    return core, pose
+    return with_following(core, params), pose
 
 
 def _params_of(runner: Any):
@@ -340,8 +340,8 @@ def run_profile(profile: str, data: BenchFrames, overrides: Mapping[str, Any] | 
     }
 
 
-def run_bench(data: BenchFrames, profiles: Sequence[str] = ("paper", "default", "fast", "fast+follow5bg"),
-              latency_profile: str | Sequence[str] | None = ("fast", "fast+follow5bg"), latency_s: float = 10.0) -> dict:
+def run_bench(data: BenchFrames, profiles: Sequence[str] = ("paper", "default", "fast"),
+              latency_profile: str | Sequence[str] | None = ("fast",), latency_s: float = 10.0) -> dict:
     """Run every profile on the same frames; add each one's fps ratio to ``paper``'s.
 
     ``latency_profile``: profile name(s) of the worker latency run(s) (``latency``: the first one,

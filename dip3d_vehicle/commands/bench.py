@@ -14,7 +14,7 @@ HELP = "time the perception profiles (paper, default, fast, ...) on the same 160
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """Add the command's arguments."""
     parser.add_argument("--json", action="store_true", help="print one JSON object")
-    parser.add_argument("--profiles", default="paper,default,fast,fast+follow5bg",
+    parser.add_argument("--profiles", default="paper,default,fast",
                         help="comma-separated profiles (paper is the reference of the ratios); PROFILE+followN[bg]: "
                              "the profile on every N-th frame, the chosen object followed in between (bg: keyframes "
                              "in a background thread)")
@@ -24,7 +24,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--size", default=None, metavar="WxH", help="render size (default the scenario camera's)")
     parser.add_argument("--source", default=None, help="a stereo folder (or source spec) instead of the simulator")
     parser.add_argument("--calib", action="append", default=[], help="calibration file(s) for --source")
-    parser.add_argument("--latency-profile", default="fast,fast+follow5bg",
+    parser.add_argument("--latency-profile", default="fast",
                         help="comma-separated profiles of the worker latency runs ('' to skip)")
     parser.add_argument("--latency-s", type=float, default=10.0, help="duration of the latency run, seconds")
 

@@ -9,7 +9,6 @@ features whose row is within the tolerance (epipolar constraint) and whose dispa
 
 from __future__ import annotations
 
-import threading
 import time
 from abc import ABC, abstractmethod
 from concurrent.futures import Future, ThreadPoolExecutor
@@ -20,6 +19,7 @@ import cv2
 import numpy as np
 
 from .calibration import StereoRig
+from .threads import shared_pool
 from .values import ArmKeypoints, Candidates
 
 __all__ = ["CandidateDetector", "SiftDetector", "match_bruteforce", "match_row_band", "kept_columns"]
@@ -33,17 +33,9 @@ _BAND_ROWS = 24.0
 # Up to this many left x right feature pairs, row-band matching is one vectorised distance matrix.
 _ONE_SHOT_PAIRS = 1_000_000
 
-_POOL: ThreadPoolExecutor | None = None
-_POOL_LOCK = threading.Lock()
-
-
 def _pool() -> ThreadPoolExecutor:
-    """Return the shared 2-thread pool that computes the left and right features concurrently."""
-    global _POOL
-    with _POOL_LOCK:
-        if _POOL is None:
-            _POOL = ThreadPoolExecutor(2, thread_name_prefix="sift")
-        return _POOL
+    """Return the shared pool for the left and right features (2 threads)."""
+    return shared_pool("sift", 2)
 
 
 class CandidateDetector(ABC):

@@ -14,7 +14,8 @@ frame waits for pose, SIFT and selection: when the keyframe's result arrives, th
 re-anchored on its chosen object (followed from the keyframe's images to the current ones).
 Only when there is nothing to follow (start, object lost) does a frame wait for the core.
 
-Not yet a parameter: it needs schema keys (e.g. ``follow.keyframe_interval``); see the bench note.
+Configured by the ``follow.*`` parameters (``with_following`` builds it when
+``follow.keyframe_interval`` > 1, as in the ``fast`` profile).
 """
 
 from __future__ import annotations
@@ -29,7 +30,7 @@ from .pipeline import Perception, PerceptionResult
 from .triangulation import triangulate
 from .values import Candidates, ObjectCandidate, Selection
 
-__all__ = ["FollowingPerception"]
+__all__ = ["FollowingPerception", "with_following"]
 
 _LK_CRITERIA = (cv2.TERM_CRITERIA_EPS | cv2.TERM_CRITERIA_COUNT, 20, 0.03)
 
@@ -209,3 +210,12 @@ class FollowingPerception:
 def _grey(image: np.ndarray) -> np.ndarray:
     """Return a grey crop (BGR converted; grey passed through)."""
     return image if image.ndim == 2 else cv2.cvtColor(image, cv2.COLOR_BGR2GRAY)
+
+
+def with_following(core: Perception, params) -> "Perception | FollowingPerception":
+    """Return ``core`` wrapped in FollowingPerception when ``follow.keyframe_interval`` > 1."""
+    if params["follow.keyframe_interval"] <= 1:
+        return core
+    return FollowingPerception(core, keyframe_interval=params["follow.keyframe_interval"],
+                               min_features=params["follow.min_features"], window_px=params["follow.window_px"],
+                               margin_px=params["follow.margin_px"], background=params["follow.background"])

@@ -7,7 +7,6 @@ rectify -> pose (both images) -> pose filters -> candidates (masked SIFT, matche
 from __future__ import annotations
 
 import math
-import threading
 import time
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
@@ -21,6 +20,7 @@ from .filters import candidate_keep, pose_rejection
 from .pose import PoseEstimator
 from .selection import PointingSelector, make_selector
 from .triangulation import normalize_q, triangulate
+from .threads import shared_pool
 from .values import JOINTS, Arm3D, ArmKeypoints, Candidates, Selection
 
 __all__ = ["Perception", "PerceptionResult", "make_pose_estimator"]
@@ -196,17 +196,9 @@ class Perception:
         return Arm3D(xyz, np.asarray(sigma, dtype=float))
 
 
-_POOL: ThreadPoolExecutor | None = None
-_POOL_LOCK = threading.Lock()
-
-
 def _rectify_pool() -> ThreadPoolExecutor:
-    """Return the shared one-thread pool that rectifies the right image while the left one is done."""
-    global _POOL
-    with _POOL_LOCK:
-        if _POOL is None:
-            _POOL = ThreadPoolExecutor(1, thread_name_prefix="rectify")
-        return _POOL
+    """Return the shared pool for the right-image rectification (1 thread)."""
+    return shared_pool("rectify", 1)
 
 
 class _Stopwatch:

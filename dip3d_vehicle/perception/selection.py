@@ -240,8 +240,11 @@ def _levenberg_marquardt(fun, x: np.ndarray, iterations: int) -> np.ndarray:
         r_new = fun(x_new)
         cost_new = np.sum(r_new * r_new, axis=1)
         better = cost_new < cost
+        gain = np.where(better, cost - cost_new, 0.0)
         x[better], r[better], cost[better] = x_new[better], r_new[better], cost_new[better]
         mu = np.where(better, mu * 0.3, mu * 10.0)
+        if np.all((gain <= 1e-6 * (1.0 + cost)) & (better | (mu > 1e4))):
+            break  # every problem converged (no useful step left)
     return cost
 
 
