@@ -55,7 +55,7 @@ from .faults import (CAMERA_KINDS, CameraFaults, FaultEvent, FaultPlan, FrameGua
                      parse_fault_plan)
 
 __all__ = ["BOUNDS_S", "ControllerTrial", "FaultSimulation", "run_faulted_mission", "trial_campaign",
-           "mission_campaign", "soak", "main"]
+           "mission_campaign", "soak", "markdown_table", "make_simulation", "main"]
 
 FAULT_DIR = Path(__file__).resolve().parent / "faults"
 STEP_S = 0.02
@@ -406,6 +406,10 @@ def _score(res: TrialResult, trial: ControllerTrial) -> None:
     res.last_motion_received_s = round(max(recv) - onset, 3) if recv else 0.0
     if res.bound_s is not None:
         res.within_bound = res.last_motion_sent_s <= res.bound_s + 1e-6 and res.last_motion_received_s <= res.bound_s + 1e-6
+    res.counters["rechecked_state"] = any("requesting message intervals and SYSID_MYGCS" in e
+                                          for e in trial.link.events if _t(e) >= onset - 1e-6)
+    res.counters["said_so"] = [e for e in trial.link.events if _t(e) >= onset - 1e-6 and (
+        "disengaged" in e or "cleared" in e)][:2]
     dis = [e for e in trial.link.events if "disengaged" in e and _t(e) >= onset - 1e-6]
     res.disengage_reason = dis[0].split("disengaged: ", 1)[1] if dis else ""
     again = [t for t, eng, motion in trial.ticks if motion and t >= window_end]
@@ -456,6 +460,7 @@ def _summarise(fault: str, rows: list[dict]) -> dict:
             "reengaged_after_s_max": max((r["reengaged_after_s"] for r in rows if r["reengaged_after_s"] is not None),
                                          default=None),
             "disengage_reasons": reasons,
+            "rechecked_state": sum(bool(r["counters"].get("rechecked_state")) for r in rows),
             "engaged_fraction_min": min((r["engaged_fraction"] for r in rows), default=None)}
 
 
@@ -664,13 +669,26 @@ def _mission_one(args: tuple) -> dict:
                     "disengagements": [e for e in sim.link.events if "disengaged" in e],
                     "wall_s": round(time.perf_counter() - wall0, 1)})
         out.pop("states", None)
+        safety = []
+        for ev in sim.fault_events.applied:
+            onset, end = ev["onset_s"], ev["recover_from_s"]
+            if ev["kind"] == "camera_out_of_order":
+                end = ev["clear_s"]
+            recv = [r.t_s for r in sim.received if r.motion and onset <= r.t_s < end]
+            sent = [t for t, _, eng, motion in sim.ticks if eng and motion and onset <= t < end]
+            again = [r.t_s for r in sim.received if r.motion and r.t_s >= end]
+            safety.append({**ev, "last_motion_received_s": round(max(recv) - onset, 3) if recv else 0.0,
+                           "last_motion_sent_s": round(max(sent) - onset, 3) if sent else 0.0,
+                           "bound_s": BOUNDS_S.get(ev["kind"]),
+                           "moving_again_after_s": round(again[0] - end, 3) if again else None})
+        out["fault_safety"] = safety
         return out
 
 
 def mission_campaign(seeds: int = 10, plan: str | Path = FAULT_DIR / "link_loss.yaml", jobs: int = 1,
-                     overrides: Mapping[str, Any] | None = None, verbose: bool = True) -> dict:
-    """Whole missions (paper_pool seeds 0..seeds-1) under a plan; arrivals and safety counters."""
-    items = [(s, str(plan), dict(overrides or {})) for s in range(seeds)]
+                     overrides: Mapping[str, Any] | None = None, verbose: bool = True, first_seed: int = 0) -> dict:
+    """Whole missions (paper_pool seeds first_seed.. +seeds) under a plan; arrivals and safety counters."""
+    items = [(s, str(plan), dict(overrides or {})) for s in range(first_seed, first_seed + seeds)]
     runs = []
     if jobs > 1:
         from concurrent.futures import ProcessPoolExecutor
@@ -694,7 +712,41 @@ def mission_campaign(seeds: int = 10, plan: str | Path = FAULT_DIR / "link_loss.
 def _print_mission(r: dict) -> None:
     print(f"seed {r['seed']} arrived {r.get('arrived')} reached {r.get('reached')} t {r.get('time_to_arrive_s')} "
           f"sim {r.get('sim_time_s')} wall {r.get('wall_s')} log {r.get('log_written')} / {r.get('log_read')} "
-          f"relay {r.get('relay')} dis {r.get('disengagements')} crash '{r.get('crashed', '')[:100]}'", flush=True)
+          f"relay {r.get('relay')} dis {r.get('disengagements')} guard {r.get('guard_rejected')} "
+          f"safety {r.get('fault_safety')} crash '{r.get('crashed', '')[:100]}'", flush=True)
+
+
+def markdown_table(summary: Mapping[str, dict]) -> str:
+    """The README table of a ``trials`` summary: fault, expected safe outcome, bound, measured numbers."""
+    rows = ["| fault | expected safe outcome | bound on last motion command after onset | measured "
+            "(max sent / max received by the autopilot) | within bound | recovered | crashes | log records "
+            "lost / written | controller's reason |", "|---|---|---|---|---|---|---|---|---|"]
+    for fault, s in summary.items():
+        bound = "n/a (keeps working)" if s["bound_s"] is None else f"{s['bound_s']:.2f} s"
+        meas = ("engaged fraction min {:.2f}".format(s["engaged_fraction_min"]) if s["max_last_motion_sent_s"] is None
+                else f"{s['max_last_motion_sent_s']:.2f} s / {s['max_last_motion_received_s']:.2f} s")
+        rec = "n/a" if s["max_last_motion_sent_s"] is None else (
+            f"{s['recovered']}/{s['trials']} (moving again <= {s['reengaged_after_s_max']:.2f} s after the "
+            f"clear / re-enable)")
+        reasons = ", ".join(f"{k} x{v}" for k, v in s["disengage_reasons"].items())
+        rows.append(f"| {fault} | {s['expected']} | {bound} | {meas} | {s['within_bound']}/{s['trials']} | {rec} | "
+                    f"{s['crashes']} | {s['lost_log_records']} / {s['log_records']} | {reasons} |")
+    return "\n".join(rows)
+
+
+def make_simulation(scenario: Any, params: Any, faults: str | Path | None, seed: int = 0, **kw: Any):
+    """For ``dip3d-vehicle sitl --faults FILE``: a Simulation, or a FaultSimulation when a plan file is given.
+
+    Raises:
+        ScenarioError: the plan file is bad (names the file and the field).
+    """
+    if not faults:
+        from .simulation import Simulation
+        return Simulation(scenario, params, **kw)
+    plan = load_fault_plan(faults, seed=seed)
+    if plan.params:
+        params = params.with_overrides(dict(plan.params), plan.source)
+    return _fault_simulation_class()(scenario, params, plan, **kw)
 
 
 # ====================================================================================== cli
@@ -709,6 +761,7 @@ def main(argv: list[str] | None = None) -> int:
     m.add_argument("--seeds", type=int, default=10)
     m.add_argument("--plan", default=str(FAULT_DIR / "link_loss.yaml"))
     m.add_argument("--jobs", type=int, default=1)
+    m.add_argument("--first-seed", type=int, default=0)
     s = sub.add_parser("soak")
     s.add_argument("--hours", type=float, default=1.0)
     s.add_argument("--trace", action="store_true", help="also measure with tracemalloc (2-4x slower)")
@@ -719,8 +772,9 @@ def main(argv: list[str] | None = None) -> int:
         out = trial_campaign(args.trials, args.fault)
         for k, v in out["summary"].items():
             print(k, json.dumps(v))
+        print(markdown_table(out["summary"]))
     elif args.what == "missions":
-        out = mission_campaign(args.seeds, args.plan, args.jobs)
+        out = mission_campaign(args.seeds, args.plan, args.jobs, first_seed=args.first_seed)
         print(f"arrived {out['arrived']} / {out['seeds']}, reached the pointed placard {out['reached']} / "
               f"{out['seeds']}, crashes {out['crashes']}")
     else:
