@@ -233,6 +233,14 @@ def test_wrong_system_or_component_never_changes_the_autopilot_state(tmp_path):
         assert rig.link.stats.ignored_heartbeats - before == n
         assert rig.link.autopilot.armed and rig.link.autopilot.mode == "ALT_HOLD"
         assert rig.link.engaged
+        # operator commands (disable) from anyone but the ground station's system id are denied
+        denied0 = rig.link.stats.operator_commands_denied
+        for imp in impostors:
+            if imp.mav.srcSystem != 255:
+                imp.mav.command_long_send(1, 191, MAV_CMD_USER_1, 0, 0, 0, 0, 0, 0, 0, 0)
+        rig.step(0.5)
+        assert rig.link.stats.operator_commands_denied - denied0 == 4
+        assert rig.link.engaged and rig.link.operator_enabled
         assert not any("disengaged" in e for e in rig.link.events)
         for imp in impostors:
             imp.close()
