@@ -5,5 +5,5 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 python -m pip install --quiet --disable-pip-version-check ".[test]"
-python -m pip install --quiet --disable-pip-version-check --no-deps "MAVProxy>=1.8.70" pynmeagps
+python -m pip install --quiet --disable-pip-version-check --no-deps "MAVProxy>=1.8.70" pynmeagps pyserial
 python -m pytest "$@"
