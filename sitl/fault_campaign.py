@@ -97,7 +97,8 @@ EXPECTED = {
     "camera_black": "black frames rejected at the perception boundary: stale -> hold; resumes by itself",
     "camera_one_eye": "frame with a missing eye rejected: no 3D decision, stale -> hold; resumes by itself",
     "camera_wrong_size": "frames of the wrong size rejected: stale -> hold; resumes by itself",
-    "camera_out_of_order": "a frame older than the last one used is rejected; newer frames still used",
+    "camera_out_of_order": "a frame older than the last one used is rejected; newer frames still used (here "
+                           "every other frame: brief holds whenever the newest usable result is > 0.5 s old)",
     "camera_time_backwards": "frames whose stamp goes back rejected: stale -> hold; resumes by itself",
     "link_loss": "20 % loss, 100 +- 50 ms each way: keeps working (autopilot liveness from ~25 msg/s, "
                  "0.6 s timeout); GCS timeout 5 s for this link (see sitl/faults/link_loss.yaml)",
