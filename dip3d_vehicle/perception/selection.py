@@ -7,9 +7,11 @@ over single matched features, ignoring which way the arm points.
 maximum-a-posteriori fit asks "could the arm be pointing at it?": the joints must lie on their
 camera rays (the 2D image positions are precise) at depths consistent with the stereo depths and
 their uncertainty (sigma_Z = Z^2 sigma_d / (f B)), with plausible limb lengths and a nearly
-straight arm, and the object must lie AHEAD of the wrist and within the pointing spread of the
-ray from the shoulder through the wrist (the angle is measured at the shoulder: seen from the
-wrist, a few degrees of pointing error become tens of degrees for an object close to the hand). The fit's
+straight arm, and the object must lie AHEAD of the wrist and near the ray from the shoulder
+through the wrist (measured from the shoulder: seen from the wrist, a few degrees of pointing
+error become tens of degrees for an object close to the hand). "Near" is a miss distance in
+metres to points spread over the object, sigma = hypot(pointing_sigma * distance, tolerance),
+averaged over the object's points (the diver points at some part of the object, not its centre). The fit's
 cost becomes a posterior over objects: confidence = posterior of the best, ambiguity margin =
 difference in log-likelihood between the best and the second best.
 """
@@ -32,6 +34,9 @@ from .values import Arm3D, ArmKeypoints, Candidates, ObjectCandidate, Selection
 
 __all__ = ["PointingSelector", "PaperSelector", "DefaultSelector", "group_objects", "make_selector",
            "paper_distances"]
+
+SHAPE_POINTS = 12
+"""Points per object used to test whether the pointing ray passes through it."""
 
 MATCH_SIGMA_PX = 0.3
 """Assumed disparity error of a matched feature, pixels (SIFT on Middlebury: median error 0.1-0.3 px)."""
@@ -150,6 +155,7 @@ class ArmModel:
     pointing_sigma_rad: float = 0.08
     forearm_m: tuple[float, float] = (0.18, 0.40)
     upperarm_m: tuple[float, float] = (0.20, 0.42)
+    object_extent_m: float = 0.03
     straightness_sigma_m: float = 0.05
     length_sigma_m: float = 0.02
 
@@ -173,16 +179,31 @@ class _PointingFit:
         self.rays, self.depth_m, self.sigma = rays, depth_m, np.maximum(depth_sigma_m, 0.01)
         self.model = model
 
-    def residuals(self, x: np.ndarray, obj_ray: np.ndarray, obj_depth: np.ndarray, obj_sigma: np.ndarray) -> np.ndarray:
-        """Return (B, 9) weighted residuals for depths x (B, 4), metres."""
+    def residuals(self, x: np.ndarray, obj_ray: np.ndarray, obj_depth: np.ndarray, obj_sigma: np.ndarray,
+                  obj_shape: np.ndarray) -> np.ndarray:
+        """Return (B, 9) weighted residuals for depths x (B, 4), metres.
+
+        ``obj_shape`` (B, K, 3) holds points spread over each object, relative to its centre
+        (metres): the diver points at some part of the object, so the pointing term's likelihood
+        is the mean over those points (a ray through any part of the object fits).
+        """
         m = self.model
         joints = self.rays[None, :, :] * x[:, :3, None]
         s, e, w = joints[:, 0], joints[:, 1], joints[:, 2]
         axis = w - s
         u = axis / (np.linalg.norm(axis, axis=1, keepdims=True) + 1e-12)
         obj = obj_ray * x[:, 3:4]
-        from_shoulder = obj - s
-        angle = np.arctan2(np.linalg.norm(np.cross(from_shoulder, u), axis=1), np.sum(from_shoulder * u, axis=1))
+        pts = obj[:, None, :] + obj_shape
+        from_shoulder = pts - s[:, None, :]
+        along = np.einsum("bkj,bj->bk", from_shoulder, u)
+        offset = np.linalg.norm(np.cross(from_shoulder, u[:, None, :]), axis=2)
+        # a miss in metres, sigma = hypot(sigma_angle * distance, tolerance), to each object point
+        miss = np.where(along > 0, offset, np.linalg.norm(from_shoulder, axis=2))
+        spread = np.hypot(m.pointing_sigma_rad * np.maximum(along, 0.0), m.object_extent_m)
+        # the diver points at some point of the object: likelihood = mean over its points
+        r2 = (miss / spread) ** 2
+        low = r2.min(axis=1)
+        ratio = np.sqrt(np.maximum(low - 2.0 * np.log(np.mean(np.exp(-(r2 - low[:, None]) / 2.0), axis=1)), 0.0))
         behind = np.maximum(-np.sum((obj - w) * u, axis=1), 0.0)
         bend = np.linalg.norm(np.cross(e - s, u), axis=1)
         fore, upper = np.linalg.norm(w - e, axis=1), np.linalg.norm(e - s, axis=1)
@@ -190,7 +211,7 @@ class _PointingFit:
         return np.column_stack([
             (x[:, :3] - self.depth_m) / self.sigma,
             (x[:, 3] - obj_depth) / np.maximum(obj_sigma, 0.01),
-            angle / m.pointing_sigma_rad,
+            ratio,
             bend / m.straightness_sigma_m,
             hinge(fore, *m.forearm_m) / m.length_sigma_m,
             hinge(upper, *m.upperarm_m) / m.length_sigma_m,
@@ -209,15 +230,36 @@ class _PointingFit:
             out.insert(0, (w - back * aim) @ ray / (ray @ ray))
         return np.column_stack([*out, obj_depth])
 
-    def costs(self, obj_rays: np.ndarray, obj_depth: np.ndarray, obj_sigma: np.ndarray,
+    def costs(self, obj_rays: np.ndarray, obj_depth: np.ndarray, obj_sigma: np.ndarray, obj_shape: np.ndarray,
               iterations: int = 25) -> np.ndarray:
         """Return the minimum cost (sum of squared residuals) per object, from two starts each."""
         n = len(obj_depth)
         measured = np.column_stack([np.tile(self.depth_m, (n, 1)), obj_depth])
         x = np.maximum(np.vstack([measured, self.starts(obj_rays, obj_depth)]), 0.05)
-        args = (np.vstack([obj_rays, obj_rays]), np.r_[obj_depth, obj_depth], np.r_[obj_sigma, obj_sigma])
+        args = (np.vstack([obj_rays, obj_rays]), np.r_[obj_depth, obj_depth], np.r_[obj_sigma, obj_sigma],
+                np.concatenate([obj_shape, obj_shape]))
         cost = _levenberg_marquardt(lambda z: self.residuals(z, *args), x, iterations)
         return np.minimum(cost[:n], cost[n:])
+
+
+def object_shape(points_m: np.ndarray, centre_m: np.ndarray, k: int = SHAPE_POINTS) -> np.ndarray:
+    """Return (k, 3) points spanning an object, relative to its centre (farthest-point sampling).
+
+    The centre itself is always included; the others are members spread over the object's extent,
+    so a pointing ray can be checked against the whole object rather than its centre only.
+    """
+    rel = points_m - centre_m
+    rel = rel[np.all(np.isfinite(rel), axis=1)]
+    out = [np.zeros(3)]
+    if len(rel):
+        dist = np.linalg.norm(rel, axis=1)
+        for _ in range(min(k - 1, len(rel))):
+            i = int(np.argmax(dist))
+            out.append(rel[i])
+            dist = np.minimum(dist, np.linalg.norm(rel - rel[i], axis=1))
+    while len(out) < k:
+        out.append(np.zeros(3))
+    return np.array(out)
 
 
 def _levenberg_marquardt(fun, x: np.ndarray, iterations: int) -> np.ndarray:
@@ -271,8 +313,9 @@ class DefaultSelector(PointingSelector):
         rays = _rays(np.c_[arm.left_px[:, 0], rows], rig)
         fit = _PointingFit(rays, arm3d.xyz_m[:, 2], arm3d.depth_sigma_m, self.model)
         obj_rays = _rays(np.array([o.left_px for o in objects]), rig)
+        shapes = np.stack([object_shape(xyz_m[list(o.members)], o.xyz_m) for o in objects])
         costs = fit.costs(obj_rays, np.array([o.xyz_m[2] for o in objects]),
-                          np.array([o.depth_sigma_m for o in objects]))
+                          np.array([o.depth_sigma_m for o in objects]), shapes)
         post = np.exp(-(costs - costs.min()) / 2.0)
         post /= post.sum()
         order = np.argsort(costs)
@@ -286,7 +329,8 @@ def arm_model_from_params(params: Mapping) -> ArmModel:
     """Return the default selector's arm priors from ``selection.*`` parameters."""
     return ArmModel(params["selection.keypoint_sigma_px"], params["selection.pointing_sigma_rad"],
                     (params["selection.forearm_min_m"], params["selection.forearm_max_m"]),
-                    (params["selection.upperarm_min_m"], params["selection.upperarm_max_m"]))
+                    (params["selection.upperarm_min_m"], params["selection.upperarm_max_m"]),
+                    params["selection.object_extent_m"])
 
 
 def make_selector(params: Mapping) -> PointingSelector:
