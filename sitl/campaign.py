@@ -72,18 +72,19 @@ def _stats(values: list[float]) -> str:
     return f"{statistics.mean(vals):.3f} +- {sd:.3f} (min {min(vals):.3f}, max {max(vals):.3f}), n={len(vals)}"
 
 
-def mission_campaign(per_position: int = 10, jobs: int = 2, max_seed: int = 200) -> dict:
+def mission_campaign(per_position: int = 10, jobs: int = 2, max_seed: int = 200,
+                     positions: tuple[str, ...] = ("2", "3")) -> dict:
     """Run paper_pool until ``per_position`` seeds per diver position; return the summary."""
     from sitl.scenario import load_scenario
 
-    chosen: dict[str, list[int]] = {"2": [], "3": []}
+    chosen: dict[str, list[int]] = {p: [] for p in positions}
     for seed in range(max_seed):
         pos = load_scenario("paper_pool", seed).diver.position_name
         if pos in chosen and len(chosen[pos]) < per_position:
             chosen[pos].append(seed)
         if all(len(v) >= per_position for v in chosen.values()):
             break
-    seeds = sorted(chosen["2"] + chosen["3"])
+    seeds = sorted(s for v in chosen.values() for s in v)
     runs = []
     print(f"mission campaign: paper_pool seeds {seeds}", flush=True)
     for r in _pool_map([(s, None, {}) for s in seeds], jobs):
@@ -94,7 +95,7 @@ def mission_campaign(per_position: int = 10, jobs: int = 2, max_seed: int = 200)
               f"final {r['final_range_m']} px {r['final_pixel_error_px']} sim {r['sim_time_s']} "
               f"wall {r['wall_time_s']}", flush=True)
     summary: dict[str, Any] = {"runs": runs, "per_position": {}}
-    for pos in ("2", "3"):
+    for pos in positions:
         rs = [r for r in runs if r["diver_position"] == pos]
         ok = [r for r in rs if r["reached"]]
         summary["per_position"][pos] = {
@@ -185,12 +186,13 @@ def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(prog="python -m sitl.campaign", description=__doc__.split("\n")[0])
     ap.add_argument("which", choices=["mission", "safety"])
     ap.add_argument("--per-position", type=int, default=10)
+    ap.add_argument("--positions", default="2,3", help="diver positions, comma-separated (mission)")
     ap.add_argument("--trials", type=int, default=20)
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--json", metavar="FILE")
     args = ap.parse_args(argv)
     if args.which == "mission":
-        out = mission_campaign(args.per_position, args.jobs)
+        out = mission_campaign(args.per_position, args.jobs, positions=tuple(args.positions.split(",")))
     else:
         out = safety_campaign(args.trials, args.jobs)
     if args.json:
