@@ -188,17 +188,29 @@ class Perception:
         return PerceptionResult("ok", "", arm, arm3d, cands, xyz, sel, tm)
 
     def triangulate_arm(self, arm: ArmKeypoints) -> Arm3D:
-        """Triangulate the three joints; depth sigma from the keypoint noise model (metres)."""
+        """Triangulate the three joints; depth sigma from this frame's keypoint noise (metres)."""
         disp = arm.left_px[:, 0] - arm.right_px[:, 0]
         rows = (arm.left_px[:, 1] + arm.right_px[:, 1]) / 2.0
         xyz = triangulate(self.Q, np.c_[arm.left_px[:, 0], rows], disp)
-        sigma = self.rig.depth_sigma_m(np.abs(xyz[:, 2]), math.sqrt(2.0) * self.params["selection.keypoint_sigma_px"])
+        noise_px = keypoint_noise_px(arm, self.params["selection.keypoint_sigma_px"])
+        sigma = self.rig.depth_sigma_m(np.abs(xyz[:, 2]), math.sqrt(2.0) * noise_px)
         return Arm3D(xyz, np.asarray(sigma, dtype=float))
 
 
 def _rectify_pool() -> ThreadPoolExecutor:
     """Return the shared pool for the right-image rectification (1 thread)."""
     return shared_pool("rectify", 1)
+
+
+def keypoint_noise_px(arm: ArmKeypoints, prior_px: float, prior_weight: float = 3.0) -> float:
+    """Return this frame's keypoint noise (1 sigma, pixels), estimated from the epipolar residuals.
+
+    In rectified images a joint has the same row in both views, so y_left - y_right of the three
+    joints are draws of N(0, 2 sigma^2): their mean square / 2 estimates sigma^2 with 3 degrees of
+    freedom, pooled with the configured prior (``prior_weight`` pseudo-observations).
+    """
+    dy = arm.left_px[:, 1] - arm.right_px[:, 1]
+    return math.sqrt((prior_weight * prior_px ** 2 + float(np.sum(dy ** 2)) / 2.0) / (prior_weight + len(dy)))
 
 
 class _Stopwatch:
