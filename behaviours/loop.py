@@ -178,12 +178,8 @@ class Controller:
                 self.sent["set_servo"] += 1
 
     def _raw_send(self, name: str, msg: Any) -> None:
-        """Send one message with the link's own identity.
-
-        VehicleLink has no public method for STATUSTEXT / COMMAND_LONG yet; this uses its
-        ``_send`` (own system/component id, counted in its stats, never raises on I/O).
-        """
-        self.link._send(name, msg)
+        """Send one non-motion message with the link's own identity (``name`` is for readers)."""
+        self.link.send_message(msg)
 
 
 def _statustext(item: StatusText) -> Any:

@@ -500,6 +500,17 @@ class VehicleLink:
 
     # ------------------------------------------------------------------ sending
 
+    def send_message(self, msg: Any) -> None:
+        """Send a non-motion message (e.g. STATUSTEXT, DO_SET_SERVO) with the controller's own identity.
+
+        Motion commands go only through ``tick`` (engage gating); anything else the behaviour
+        layer wants to say goes here: own system/component id, counted in ``stats``, never raises.
+        """
+        name = msg.get_type()
+        if name in ("MANUAL_CONTROL", "SET_POSITION_TARGET_LOCAL_NED", "RC_CHANNELS_OVERRIDE"):
+            raise ValueError(f"{name} is a motion command: send it through tick()")
+        self._send(name, msg)
+
     def _send(self, name: str, msg: Any, encoder: Any = None) -> None:
         """Send one message with our identity (or ``encoder``'s), counting it; never raises on I/O."""
         if self._conn is None:
