@@ -110,6 +110,25 @@ class _Captures(StereoSource):
         counts = [int(cap.get(cv2.CAP_PROP_FRAME_COUNT)) for cap in self.caps]
         return min(counts) if counts and min(counts) > 0 else 0
 
+    def __len__(self) -> int:
+        n = self._file_length()
+        return min(n, self.max_frames) if self.max_frames else n
+
+    def _pair(self, images: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
+        """Return (left, right) from the images read from every capture (two captures here)."""
+        return images[0], images[1]
+
+    def _frames(self) -> Iterator[tuple[np.ndarray, np.ndarray, float, dict]]:
+        index = 0
+        while self.caps:
+            images = self._read_all()
+            if images is None:
+                return
+            left, right = self._pair(images)
+            self.stats["frames_read"] += 1
+            yield left, right, self._stamp(index), {}
+            index += 1
+
     def close(self) -> None:
         for cap in self.caps:
             cap.release()
@@ -131,22 +150,8 @@ class CapturePairSource(_Captures):
             counts = [int(cap.get(cv2.CAP_PROP_FRAME_COUNT)) for cap in self.caps]
             self.stats["left_frame_count"], self.stats["right_frame_count"] = counts
 
-    def __len__(self) -> int:
-        n = self._file_length()
-        return min(n, self.max_frames) if self.max_frames else n
-
     def describe(self) -> str:
         return f"{self.kind} pair left={self.targets[0]} right={self.targets[1]}"
-
-    def _frames(self) -> Iterator[tuple[np.ndarray, np.ndarray, float, dict]]:
-        index = 0
-        while self.caps:
-            images = self._read_all()
-            if images is None:
-                return
-            self.stats["frames_read"] += 1
-            yield images[0], images[1], self._stamp(index), {}
-            index += 1
 
 
 class SideBySideSource(_Captures):
@@ -156,23 +161,12 @@ class SideBySideSource(_Captures):
                  options: Mapping[str, Any] | None = None, params: Mapping[str, Any] | None = None) -> None:
         super().__init__(spec, [target], kind, dict(options or {}), params)
 
-    def __len__(self) -> int:
-        n = self._file_length()
-        return min(n, self.max_frames) if self.max_frames else n
-
     def describe(self) -> str:
         return f"side-by-side {self.kind} {self.targets[0]}"
 
-    def _frames(self) -> Iterator[tuple[np.ndarray, np.ndarray, float, dict]]:
-        index = 0
-        while self.caps:
-            images = self._read_all()
-            if images is None:
-                return
-            left, right = split_side_by_side(images[0], self.targets[0])
-            self.stats["frames_read"] += 1
-            yield left, right, self._stamp(index), {}
-            index += 1
+    def _pair(self, images: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
+        """Split the one side-by-side image into (left, right)."""
+        return split_side_by_side(images[0], self.targets[0])
 
 
 def split_side_by_side(image: np.ndarray, where: str) -> tuple[np.ndarray, np.ndarray]:
