@@ -33,6 +33,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="run at X times real time (default: as fast as possible)")
     parser.add_argument("--out", metavar="DIR", default=None, help="output folder (default: sitl.out_dir)")
     parser.add_argument("--no-plots", action="store_true", help="do not write trajectory.png / final_view.png")
+    parser.add_argument("--faults", metavar="FILE", default=None,
+                        help="inject the faults of a fault plan (e.g. sitl/faults/link_cut.yaml): lossy link, "
+                             "autopilot reboot, pilot actions, ground-station loss, camera faults")
     add_params_arguments(parser)
 
 
@@ -41,13 +44,16 @@ def run(args: argparse.Namespace) -> int:
     from dip3d_vehicle.perception.calibration_io import write_opencv_calibration
     from dip3d_vehicle.runlog import RunLogWriter
     from sitl.scenario import load_scenario
-    from sitl.simulation import Simulation, sim_params
+    from sitl.fault_campaign import load_fault_plan, make_simulation
+    from sitl.simulation import sim_params
 
     import logging
     logging.getLogger("dip3d_vehicle.link").setLevel(logging.ERROR)  # its warnings are in the story
     if args.speed is not None and not args.speed > 0:
         raise Dip3dError(f"--speed {args.speed}: must be > 0")
     params = params_from_args(args)
+    if args.faults:
+        load_fault_plan(args.faults, seed=args.seed)  # a bad plan fails before anything starts
     scenario = load_scenario(args.scenario, args.seed)
     params = sim_params(params, scenario)
     out = Path(args.out or params["sitl.out_dir"])
@@ -63,7 +69,7 @@ def run(args: argparse.Namespace) -> int:
     meta = {"command": "sitl", "scenario": scenario.name, "seed": args.seed, "calib_opencv_yaml": calib_text,
             "image_size": list(scenario.camera.image_size), "target_id": scenario.target_id}
     with RunLogWriter(out / "run.log", params, meta, keep_images_every=keep, overwrite=True) as log:
-        sim = Simulation(scenario, params, speed=args.speed, log=log)
+        sim = make_simulation(scenario, params, args.faults, args.seed, speed=args.speed, log=log)
         try:
             result = sim.run()
         finally:
