@@ -181,3 +181,13 @@ def test_autopilot_reboot_gap_and_link_recheck():
     finally:
         link.close()
         ap.close()
+
+
+def test_sitl_command_rejects_a_bad_fault_plan(tmp_path, capsys):
+    from dip3d_vehicle.cli import main
+
+    plan = tmp_path / "plan.yaml"
+    plan.write_text("events:\n  - {kind: meteor, at_s: 1}\n")
+    assert main(["sitl", "--faults", str(plan), "--no-plots", "--out", str(tmp_path / "out")]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "plan.yaml" in err and "events[0].kind" in err and len(err.splitlines()) == 1
