@@ -41,6 +41,7 @@ class TrackerConfig:
     group_radius_px: float = 60.0
     group_radius_m: float = 0.2
     min_object_features: int = 3
+    gate_max_m: float = 0.75
 
     @classmethod
     def from_params(cls, params: Mapping) -> "TrackerConfig":
@@ -49,7 +50,7 @@ class TrackerConfig:
                    params["behaviour.track_gate_m"], params["behaviour.track_gate_growth_m_s"],
                    params["behaviour.track_model_size"], params["behaviour.track_lost_frames"],
                    params["selection.group_radius_px"], params["selection.group_radius_m"],
-                   params["selection.min_object_features"])
+                   params["selection.min_object_features"], gate_max_m=params["behaviour.track_gate_max_m"])
 
 
 @dataclass(frozen=True)
@@ -61,6 +62,11 @@ class TrackedTarget:
     matches: int
     stamp_s: float
     obj: ObjectCandidate
+
+
+def _anchor_matches(min_matches: int) -> int:
+    """Return how many matches to the first sighting's model an object needs (half the minimum, >= 2)."""
+    return max(2, min_matches // 2)
 
 
 def predict_xyz(xyz_m: np.ndarray, command: VelocityCommand | None, dt_s: float) -> np.ndarray:
@@ -179,18 +185,23 @@ class TargetTracker:
         if not objects:
             return None
         # each part of the model separately: the same feature in both would defeat the ratio test
-        matched = self._matched_features(self._first, candidates.descriptors)
+        first = self._matched_features(self._first, candidates.descriptors)
+        matched = first.copy()
         if len(self._latest) >= 2:
             matched |= self._matched_features(self._latest, candidates.descriptors)
         since = stamp_s - (self.last_seen_s if self.last_seen_s is not None else stamp_s)
-        gate = c.gate_m + c.gate_growth_m_s * max(since, 0.0)
-        best, best_count = None, 0
+        gate = min(c.gate_m + c.gate_growth_m_s * max(since, 0.0), c.gate_max_m)
+        best, best_key, best_count = None, (0, 0), 0
         for obj in objects:
-            count = int(np.count_nonzero(matched[list(obj.members)]))
-            if count < c.min_matches or float(np.linalg.norm(obj.xyz_m - predicted)) > gate:
+            members = list(obj.members)
+            count, anchored = int(np.count_nonzero(matched[members])), int(np.count_nonzero(first[members]))
+            # identity is anchored on the first sighting: the latest model only adds support, so one
+            # wrong acceptance cannot carry the track over to a neighbouring object
+            if count < c.min_matches or anchored < _anchor_matches(c.min_matches) \
+                    or float(np.linalg.norm(obj.xyz_m - predicted)) > gate:
                 continue
-            if count > best_count:
-                best, best_count = obj, count
+            if (anchored, count) > best_key:
+                best, best_key, best_count = obj, (anchored, count), count
         if best is None:
             return None
         return TrackedTarget(np.asarray(best.left_px, float), np.asarray(best.xyz_m, float), best_count,
