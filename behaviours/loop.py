@@ -25,7 +25,7 @@ from typing import Any, Callable, Mapping
 
 import numpy as np
 
-from dip3d_vehicle.frames import StereoFrame
+from dip3d_vehicle.frames import FrameGuard, StereoFrame
 from dip3d_vehicle.perception.pipeline import Perception
 from dip3d_vehicle.perception.triangulation import triangulate
 from dip3d_vehicle.perception.values import Candidates
@@ -202,7 +202,9 @@ class PerceptionWorker:
     overwrites are counted in ``dropped_frames``); the worker thread processes the newest frame with
     the mission's current need and publishes the result. ``take()`` (called by the tick) returns a
     result once; a result replaced before it was taken is counted in ``dropped_results``; a frame
-    older than ``max_frame_age_s`` when the worker gets to it is skipped (``stale_frames``).
+    older than ``max_frame_age_s`` when the worker gets to it is skipped (``stale_frames``), and a
+    frame the ``FrameGuard`` rejects (an eye missing or black, wrong size, stamp or index not
+    increasing) is never processed (counted in ``guard.rejected`` by reason).
 
     Args:
         source: an open StereoSource (iterable of StereoFrame).
@@ -211,11 +213,14 @@ class PerceptionWorker:
         roi: callable returning the tracker's search box (or None), used for "track".
         clock: the loop clock (a WallClock onboard); frames are stamped with it on arrival.
         max_frame_age_s: skip frames older than this.
+        image_size: the calibration's (width, height); None learns it from the first good frame.
     """
 
     def __init__(self, source, processor: FrameProcessor, need: Callable[[], str], clock,
-                 max_frame_age_s: float = 0.5, roi: Callable[[], Any] | None = None) -> None:
+                 max_frame_age_s: float = 0.5, roi: Callable[[], Any] | None = None,
+                 image_size: tuple[int, int] | None = None) -> None:
         self.source, self.processor, self.need, self.clock = source, processor, need, clock
+        self.guard = FrameGuard(image_size)  # missing/black eye, wrong size, out of order: no 3D decision
         self.roi = roi
         self.busy = False
         self.max_frame_age_s = max_frame_age_s
@@ -274,6 +279,8 @@ class PerceptionWorker:
             if self.clock.now() - stamp > self.max_frame_age_s:
                 self.stale_frames += 1
                 continue
+            if self.guard.check(frame):
+                continue  # counted by reason in self.guard.rejected; perception goes stale -> hold
             self.busy = True
             try:
                 need = self.need()

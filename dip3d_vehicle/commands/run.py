@@ -75,7 +75,7 @@ def run(args: argparse.Namespace) -> int:
     controller = Controller(link, mission, clock)
     worker = PerceptionWorker(itertools.chain([first], frames), FrameProcessor(perception, before),
                               lambda: mission.needs, clock, params["mission.max_frame_age_s"],
-                              roi=lambda: mission.track_roi(rig, size))
+                              roi=lambda: mission.track_roi(rig, size), image_size=tuple(rig.image_size))
     log = None
     if args.log:
         from dip3d_vehicle.runlog import RunLogWriter
