@@ -268,6 +268,7 @@ def _levenberg_marquardt(fun, x: np.ndarray, iterations: int) -> np.ndarray:
     cost = np.sum(r * r, axis=1)
     mu = np.full(len(x), 1e-2)
     eye = np.eye(x.shape[1])
+    stalled = np.zeros(len(x), int)
     for _ in range(iterations):
         step = 1e-5 * np.maximum(np.abs(x), 1.0)
         jac = np.empty(r.shape + (x.shape[1],))
@@ -285,8 +286,9 @@ def _levenberg_marquardt(fun, x: np.ndarray, iterations: int) -> np.ndarray:
         gain = np.where(better, cost - cost_new, 0.0)
         x[better], r[better], cost[better] = x_new[better], r_new[better], cost_new[better]
         mu = np.where(better, mu * 0.3, mu * 10.0)
-        if np.all((gain <= 1e-6 * (1.0 + cost)) & (better | (mu > 1e4))):
-            break  # every problem converged (no useful step left)
+        stalled = np.where(gain <= 1e-3 * (1.0 + cost), stalled + 1, 0)
+        if np.all(stalled >= 2):
+            break  # every problem converged: under 0.1 % improvement twice in a row
     return cost
 
 
