@@ -107,7 +107,21 @@ class WaitForDiver(MissionState):
         return None
 
 
-class ConfirmPoint(MissionState):
+class _ArmWatch(MissionState):
+    """A state that gives up when the diver's arm is down for ``arm_lost_frames`` frames in a row."""
+
+    misses = 0
+
+    def arm_gone(self, bb: Blackboard, raised: bool, why: str) -> bool:
+        """Count a frame without the raised arm (reset on one with it); True once the arm is gone."""
+        self.misses = 0 if raised else self.misses + 1
+        if self.misses >= bb.config.arm_lost_frames:
+            bb.say(why)
+            return True
+        return False
+
+
+class ConfirmPoint(_ArmWatch):
     """Wait until the pointing direction (in the left image) stays within an angle for a hold time."""
 
     name = "confirm_point"
@@ -127,13 +141,10 @@ class ConfirmPoint(MissionState):
         result = _new_result(bb)
         if result is None:
             return None
-        if not is_raised(arm_direction(result), c.min_raise_rad):
-            self.misses += 1
-            if self.misses >= c.arm_lost_frames:
-                bb.say("diver lowered the arm or left")
-                return "arm_lost"
+        if self.arm_gone(bb, is_raised(arm_direction(result), c.min_raise_rad), "diver lowered the arm or left"):
+            return "arm_lost"
+        if self.misses:
             return None
-        self.misses = 0
         direction = image_direction(result)
         stamp = bb.observation.stamp_s
         self.window.append((stamp, direction))
@@ -147,7 +158,7 @@ class ConfirmPoint(MissionState):
         return None
 
 
-class SelectTarget(MissionState):
+class SelectTarget(_ArmWatch):
     """Aggregate the selections of several frames; only a clear winner proceeds."""
 
     name = "select_target"
@@ -167,13 +178,10 @@ class SelectTarget(MissionState):
         result = _new_result(bb)
         if result is None:
             return None
-        if not _raised(bb, result):
-            self.misses += 1
-            if self.misses >= c.arm_lost_frames:
-                bb.say("diver lowered the arm or left while selecting")
-                return "arm_lost"
+        if self.arm_gone(bb, _raised(bb, result), "diver lowered the arm or left while selecting"):
+            return "arm_lost"
+        if self.misses:
             return None
-        self.misses = 0
         self.box.add(result, bb.observation.stamp_s)
         if self.box.frames < c.vote_frames:
             return None
