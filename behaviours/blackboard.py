@@ -170,6 +170,11 @@ class Blackboard:
             self.command_since_s = self.now_s
         self.command = command
 
+    def stop(self) -> None:
+        """Command no motion and reset the servo (its rate limiter restarts from rest)."""
+        self.set_command(None)
+        self.servo.reset()
+
     def take_outbox(self) -> list:
         """Return and clear the queued messages."""
         out, self.outbox = self.outbox, []

@@ -78,8 +78,7 @@ class Idle(MissionState):
 
     def enter(self, bb: Blackboard) -> None:
         super().enter(bb)
-        bb.set_command(None)
-        bb.servo.reset()
+        bb.stop()
 
     def tick(self, bb: Blackboard) -> str | None:
         return "engage" if bb.engaged else None
@@ -246,8 +245,7 @@ class Servo(MissionState):
         if not new:
             return None
         if found is None:
-            bb.servo.reset()
-            bb.set_command(None)
+            bb.stop()
             last = bb.tracker.last_seen_s
             if last is not None and bb.observation.stamp_s - last > c.lost_grace_s:
                 return "lost"
@@ -277,8 +275,7 @@ class LostTarget(MissionState):
 
     def enter(self, bb: Blackboard) -> None:
         super().enter(bb)
-        bb.set_command(None)
-        bb.servo.reset()
+        bb.stop()
         bb.say("target lost: holding and looking for it", "warning", pilot=True)
 
     def tick(self, bb: Blackboard) -> str | None:
@@ -318,8 +315,7 @@ class Arrive(MissionState):
         if not new:
             return None
         if found is None:
-            bb.servo.reset()
-            bb.set_command(None)
+            bb.stop()
             self.inside_since = None
             return "lost" if bb.tracker.lost else None
         stamp = bb.observation.stamp_s
@@ -349,8 +345,7 @@ class Done(MissionState):
 
     def enter(self, bb: Blackboard) -> None:
         super().enter(bb)
-        bb.set_command(None)
-        bb.servo.reset()
+        bb.stop()
         bb.arrived = True
         bb.arrivals += 1
         e = bb.errors
@@ -378,8 +373,7 @@ class Abort(MissionState):
 
     def enter(self, bb: Blackboard) -> None:
         super().enter(bb)
-        bb.set_command(None)
-        bb.servo.reset()
+        bb.stop()
         bb.chosen = None
         bb.say("aborted: holding", "warning", pilot=True)
 
