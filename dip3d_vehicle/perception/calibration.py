@@ -14,16 +14,22 @@ import numpy as np
 
 from ..errors import CalibrationError, ImageError
 
-__all__ = ["StereoRig"]
+__all__ = ["StereoRig", "as_matrix"]
 
 
-def _as(arr, shape: tuple[int, ...], name: str, where: str) -> np.ndarray:
-    """Return ``arr`` as a float64 array of ``shape``; raise CalibrationError naming the key."""
+def as_matrix(arr, shape: tuple[int, ...], name: str, where: str) -> np.ndarray:
+    """Return ``arr`` as a finite float64 array of ``shape``; raise CalibrationError naming the key.
+
+    A flat vector (or a single row / column) of the right size is reshaped; any other shape is an
+    error (a 2x8 array is not a 4x4 matrix).
+    """
+    if arr is None or isinstance(arr, (str, bool)):
+        raise CalibrationError(f"{where}: {name} is not a numeric matrix (got {arr!r})")
     try:
         out = np.asarray(arr, dtype=np.float64)
     except (TypeError, ValueError):
-        raise CalibrationError(f"{where}: {name} is not numeric") from None
-    if out.size == int(np.prod(shape)) and out.shape != shape:
+        raise CalibrationError(f"{where}: {name} is not a numeric matrix") from None
+    if out.size == int(np.prod(shape)) and out.ndim <= 2 and (out.ndim < 2 or 1 in out.shape):
         out = out.reshape(shape)
     if out.shape != shape:
         raise CalibrationError(f"{where}: {name} has shape {out.shape}, expected {shape}")
@@ -84,11 +90,11 @@ class StereoRig:
                         source: str = "parameters") -> "StereoRig":
         """Build a rig from raw calibration (OpenCV conventions) and compute its rectification."""
         where = source
-        K1, K2 = _as(K1, (3, 3), "K1/M1", where), _as(K2, (3, 3), "K2/M2", where)
+        K1, K2 = as_matrix(K1, (3, 3), "K1/M1", where), as_matrix(K2, (3, 3), "K2/M2", where)
         _check_intrinsics(K1, "K1/M1", where)
         _check_intrinsics(K2, "K2/M2", where)
         D1, D2 = _dist(D1, "D1", where), _dist(D2, "D2", where)
-        R, T = _as(R, (3, 3), "R", where), _as(T, (3, 1), "T", where)
+        R, T = as_matrix(R, (3, 3), "R", where), as_matrix(T, (3, 1), "T", where)
         if abs(np.linalg.det(R) - 1.0) > 1e-3 or not np.allclose(R @ R.T, np.eye(3), atol=1e-3):
             raise CalibrationError(f"{where}: R is not a rotation matrix (det {np.linalg.det(R):.4f})")
         if np.linalg.norm(T) <= 0:
@@ -106,7 +112,7 @@ class StereoRig:
                        source: str = "parameters") -> "StereoRig":
         """Build a rig for frames that are already rectified, from their projection matrices."""
         where = source
-        P1, P2 = _as(P1, (3, 4), "P1", where), _as(P2, (3, 4), "P2", where)
+        P1, P2 = as_matrix(P1, (3, 4), "P1", where), as_matrix(P2, (3, 4), "P2", where)
         _check_intrinsics(P1[:, :3], "P1", where)
         _check_intrinsics(P2[:, :3], "P2", where)
         if abs(P2[0, 3]) <= 0:
@@ -117,7 +123,7 @@ class StereoRig:
         if Q is None:
             Q = np.array([[1, 0, 0, -cx], [0, 1, 0, -cy], [0, 0, 0, f],
                           [0, 0, -1.0 / tx, (cx - P2[0, 2]) / tx]], np.float64)
-        Q = _as(Q, (4, 4), "Q", where)
+        Q = as_matrix(Q, (4, 4), "Q", where)
         K1 = P1[:, :3].copy()
         K2 = P2[:, :3].copy()
         T = np.array([[tx], [0.0], [0.0]])

@@ -31,7 +31,7 @@ import numpy as np
 import yaml
 
 from ..errors import CalibrationError
-from .calibration import StereoRig
+from .calibration import StereoRig, as_matrix
 
 __all__ = ["load_rig", "write_opencv_calibration", "detect_format"]
 
@@ -229,19 +229,7 @@ def _matrix(value: Any, shape: tuple[int, int], key: str, where: str) -> np.ndar
             if len(data) != rows * cols:
                 raise CalibrationError(f"{where}: {key} has {len(data)} values but rows x cols = {rows}x{cols}")
             value = [data[r * cols:(r + 1) * cols] for r in range(rows)]
-    if value is None or isinstance(value, (str, bool)):
-        raise CalibrationError(f"{where}: {key} is not a numeric matrix (got {value!r})")
-    try:
-        arr = np.asarray(value, dtype=np.float64)
-    except (TypeError, ValueError):
-        raise CalibrationError(f"{where}: {key} is not a numeric matrix") from None
-    if arr.size == shape[0] * shape[1] and arr.ndim <= 2 and (arr.ndim < 2 or 1 in arr.shape):
-        arr = arr.reshape(shape)
-    if arr.shape != shape:
-        raise CalibrationError(f"{where}: {key} has shape {arr.shape}, expected {shape}")
-    if not np.all(np.isfinite(arr)):
-        raise CalibrationError(f"{where}: {key} has non-finite values")
-    return arr
+    return as_matrix(value, shape, key, where)
 
 
 def _camera_matrix(value: Any, key: str, where: str) -> np.ndarray:
