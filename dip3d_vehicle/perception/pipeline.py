@@ -202,12 +202,13 @@ def _rectify_pool() -> ThreadPoolExecutor:
     return shared_pool("rectify", 1)
 
 
-def keypoint_noise_px(arm: ArmKeypoints, prior_px: float, prior_weight: float = 3.0) -> float:
+def keypoint_noise_px(arm: ArmKeypoints, prior_px: float, prior_weight: float = 1.0) -> float:
     """Return this frame's keypoint noise (1 sigma, pixels), estimated from the epipolar residuals.
 
     In rectified images a joint has the same row in both views, so y_left - y_right of the three
     joints are draws of N(0, 2 sigma^2): their mean square / 2 estimates sigma^2 with 3 degrees of
-    freedom, pooled with the configured prior (``prior_weight`` pseudo-observations).
+    freedom, pooled with the configured prior (``prior_weight`` pseudo-observations; one, so that
+    clean keypoints are believed: with three the 2 px prior kept 0.13 m of depth doubt at 2.6 m).
     """
     dy = arm.left_px[:, 1] - arm.right_px[:, 1]
     return math.sqrt((prior_weight * prior_px ** 2 + float(np.sum(dy ** 2)) / 2.0) / (prior_weight + len(dy)))

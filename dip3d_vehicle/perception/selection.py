@@ -153,8 +153,8 @@ class ArmModel:
 
     keypoint_sigma_px: float = 2.0
     pointing_sigma_rad: float = 0.08
-    forearm_m: tuple[float, float] = (0.18, 0.40)
-    upperarm_m: tuple[float, float] = (0.20, 0.42)
+    forearm_m: tuple[float, float] = (0.22, 0.29)
+    upperarm_m: tuple[float, float] = (0.27, 0.37)
     object_extent_m: float = 0.03
     straightness_sigma_m: float = 0.05
     length_sigma_m: float = 0.02
