@@ -9,6 +9,11 @@ row, positive disparity) and returns the object's new left-image point and 3D ce
 keyframe runs every ``keyframe_interval`` frames, or at once when fewer than ``min_features``
 pairs survive. Timings: "track" (ms) on followed frames; the core's stages on keyframes.
 
+Cost: Lucas-Kanade's time grows with the number of points (about 27 us per point and pass on a
+crop, forward and backward, both images), so at most ``max_features`` of the object's features are
+followed: a fixed-seed random subset, whose median (the followed point) is an unbiased sample of
+the whole object's. The left and right images are tracked concurrently (cv2 releases the GIL).
+
 With ``background=True`` a keyframe runs in its own thread while the following goes on, so no
 frame waits for pose, SIFT and selection: when the keyframe's result arrives, the follower is
 re-anchored on its chosen object (followed from the keyframe's images to the current ones).
@@ -27,10 +32,11 @@ import cv2
 import numpy as np
 
 from .pipeline import Perception, PerceptionResult
+from .threads import shared_pool
 from .triangulation import triangulate
 from .values import Candidates, ObjectCandidate, Selection
 
-__all__ = ["FollowingPerception", "with_following"]
+__all__ = ["FollowingPerception", "with_following", "followed_subset"]
 
 _LK_CRITERIA = (cv2.TERM_CRITERIA_EPS | cv2.TERM_CRITERIA_COUNT, 20, 0.03)
 
@@ -46,11 +52,13 @@ class FollowingPerception:
         levels: pyramid levels above the base.
         margin_px: crop margin around the features, pixels (largest motion followed per frame).
         row_tolerance_px: largest |y_left - y_right| (rectified) of a kept pair.
+        background: run keyframes in a background thread.
+        max_features: most features followed per object (0 = all of them).
     """
 
     def __init__(self, perception: Perception, keyframe_interval: int = 5, min_features: int = 4,
                  window_px: int = 21, levels: int = 3, margin_px: int = 64, row_tolerance_px: float = 2.0,
-                 background: bool = False) -> None:
+                 background: bool = False, max_features: int = 0) -> None:
         self.core = perception
         self.background = bool(background)
         self._pool = ThreadPoolExecutor(1, thread_name_prefix="keyframe") if background else None
@@ -60,6 +68,7 @@ class FollowingPerception:
         self.min_features = int(min_features)
         self.window_px, self.levels, self.margin_px = int(window_px), int(levels), int(margin_px)
         self.row_tolerance_px = float(row_tolerance_px)
+        self.max_features = max(0, int(max_features))
         self.counts = {"keyframes": 0, "followed": 0, "lost": 0, "waited": 0, "kept_on_empty_keyframe": 0}
         self.last_kind = ""
         self.reset()
@@ -141,7 +150,7 @@ class FollowingPerception:
         if result.status != "ok" or sel is None or sel.index is None:
             return
         obj = sel.objects[sel.index]
-        members = np.asarray(obj.members, int)
+        members = followed_subset(np.asarray(obj.members, int), self.max_features)
         if len(members) < self.min_features:
             return
         pts_l = self.rig.to_original(result.candidates.left_px[members], "left").astype(np.float32)
@@ -154,8 +163,9 @@ class FollowingPerception:
         """Track the object's features into this pair; None when too few survive."""
         t0 = time.perf_counter()
         tr = self._track
+        right_job = _flow_pool().submit(self._flow, tr["right"], right, tr["pts_r"])
         new_l, ok_l = self._flow(tr["left"], left, tr["pts_l"])
-        new_r, ok_r = self._flow(tr["right"], right, tr["pts_r"])
+        new_r, ok_r = right_job.result()
         ok = ok_l & ok_r
         if ok.sum() < self.min_features:
             self._track = None
@@ -207,6 +217,19 @@ class FollowingPerception:
                                 {"track": track_ms})
 
 
+def followed_subset(members: np.ndarray, max_features: int, seed: int = 0) -> np.ndarray:
+    """Return at most ``max_features`` of an object's feature indices (0 = all): a fixed-seed random subset, in order."""
+    if max_features <= 0 or len(members) <= max_features:
+        return members
+    pick = np.random.default_rng(seed).choice(len(members), max_features, replace=False)
+    return members[np.sort(pick)]
+
+
+def _flow_pool() -> ThreadPoolExecutor:
+    """Return the shared pool for the right image's optical flow (1 thread)."""
+    return shared_pool("follow", 1)
+
+
 def _grey(image: np.ndarray) -> np.ndarray:
     """Return a grey crop (BGR converted; grey passed through)."""
     return image if image.ndim == 2 else cv2.cvtColor(image, cv2.COLOR_BGR2GRAY)
@@ -218,4 +241,5 @@ def with_following(core: Perception, params) -> "Perception | FollowingPerceptio
         return core
     return FollowingPerception(core, keyframe_interval=params["follow.keyframe_interval"],
                                min_features=params["follow.min_features"], window_px=params["follow.window_px"],
-                               margin_px=params["follow.margin_px"], background=params["follow.background"])
+                               margin_px=params["follow.margin_px"], background=params["follow.background"],
+                               max_features=params["follow.max_features"])

@@ -7,7 +7,7 @@ import pytest
 
 from dip3d_vehicle.bench import frame_correct, simulated_frames
 from dip3d_vehicle.config import load_params
-from dip3d_vehicle.perception.follow import FollowingPerception
+from dip3d_vehicle.perception.follow import FollowingPerception, followed_subset, with_following
 from dip3d_vehicle.perception.keypoints_file import GivenKeypoints
 from dip3d_vehicle.perception.pipeline import Perception
 
@@ -45,3 +45,28 @@ def test_lost_object_forces_a_keyframe(frames):
     pose.provide(f1.meta["keypoints"])
     follower.process(blank, blank)     # nothing to follow in a blank pair: the core runs instead
     assert follower.last_kind == "keyframe" and follower.counts["keyframes"] == 2
+
+
+def test_followed_subset_is_a_fixed_sorted_sample():
+    members = np.arange(100, 200)
+    pick = followed_subset(members, 32)
+    assert len(pick) == 32 and len(set(pick)) == 32 and np.all(np.diff(pick) > 0)
+    assert set(pick) <= set(members)
+    assert np.array_equal(pick, followed_subset(members, 32))      # deterministic
+    assert np.array_equal(followed_subset(members, 0), members)      # 0 = all
+    assert np.array_equal(followed_subset(members[:10], 32), members[:10])
+
+
+def test_max_features_caps_the_followed_points(frames):
+    pose = GivenKeypoints("right")
+    params = load_params("fast", (), {"pose.backend": "keypoints", "follow.background": False,
+                                      "follow.max_features": 8})
+    follower = with_following(Perception(frames.rig, params, pose), params)
+    assert follower.max_features == 8
+    for f in frames.frames[:3]:
+        pose.provide(f.meta["keypoints"])
+        result = follower.process(f.left, f.right)
+        assert len(follower._track["pts_l"]) <= 8
+        assert frame_correct(result.to_json(frames.rig), f.meta)
+    assert follower.last_kind == "followed"
+    follower.close()
