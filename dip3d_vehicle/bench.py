@@ -191,6 +191,10 @@ class BenchPose(PoseEstimator):
         """Forget the backend's tracking state."""
         self.backend.reset()
 
+    def set_early_arm_listener(self, listener) -> None:
+        """Pass the early-arm listener to the backend (see ``PoseEstimator``)."""
+        self.backend.set_early_arm_listener(listener)
+
 
 # ---------------------------------------------------------------------------------------------
 # Measuring one profile

@@ -399,7 +399,16 @@ class BlazePoseEstimator(PoseEstimator):
         disparity = body_disparity(left_img, right_img, left, sign, self.max_disparity_px)
         if disparity is None:
             return None
+        self._tell_early(left, disparity, sign)
         return self.pose.process(right_img, left.roi.shifted(-sign * disparity), contrast=left.contrast)
+
+    def _tell_early(self, left: PoseLandmarks, disparity_px: float, sign: int) -> None:
+        """Give the early-arm listener the left arm and its right-image position at the body's disparity."""
+        if self._early_listener is None:
+            return
+        xy, conf = left.arm(self.arm)
+        right_xy = xy - np.array([sign * disparity_px, 0.0])
+        self._early_listener(ArmKeypoints(self.arm, xy, right_xy, conf, conf, source="blazepose (right predicted)"))
 
 
 def _small_grey(patch: np.ndarray, scale: float) -> np.ndarray:

@@ -141,8 +141,13 @@ class Perception:
         prefetch = getattr(self.detector, "prefetch", None) if self.overlap else None
         if prefetch is not None and self._last_arm is not None:
             prefetch(left_rect, right_rect, self._last_arm)
+        elif prefetch is not None:  # no previous arm: start the features once the left pose is known
+            self.pose.set_early_arm_listener(lambda hint: prefetch(left_rect, right_rect, hint))
         with clock("pose"):
-            arm = self.pose.estimate(left_rect, right_rect, self.rig)
+            try:
+                arm = self.pose.estimate(left_rect, right_rect, self.rig)
+            finally:
+                self.pose.set_early_arm_listener(None)
         with clock("triangulate"):
             early = self.check_arm(arm)
         self._last_arm = early.arm if early.status == "ok" else None

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from abc import ABC, abstractmethod
+from typing import Callable
 
 import numpy as np
 
@@ -23,6 +24,7 @@ class PoseEstimator(ABC):
     """
 
     name = "pose"
+    _early_listener: Callable[[ArmKeypoints], None] | None = None
 
     @abstractmethod
     def estimate(self, left_rect: np.ndarray, right_rect: np.ndarray, rig: StereoRig) -> ArmKeypoints | None:
@@ -36,3 +38,13 @@ class PoseEstimator(ABC):
 
     def reset(self) -> None:
         """Forget any tracking state (default: nothing to forget)."""
+
+    def set_early_arm_listener(self, listener: Callable[[ArmKeypoints], None] | None) -> None:
+        """Ask to be given a provisional arm (rectified px) before ``estimate`` returns (None: stop).
+
+        A backend that finds the left pose before the right one calls ``listener`` once, with the
+        left joints measured and the right ones predicted, so that work needing only the arm's
+        rough position (the candidates' features) can start while the right pose runs. Backends
+        that cannot tell earlier never call it.
+        """
+        self._early_listener = listener

@@ -185,6 +185,25 @@ def test_stereo_roi_search_finds_shifted_pose(pose, photos, disparity):
     assert np.allclose(arm.left_px - arm.right_px, [[disparity, 0]] * 3, atol=2.0)
 
 
+def test_early_arm_listener_gets_the_left_arm_and_the_predicted_right_one(pose, photos):
+    folder, _ = photos
+    left = cv2.imread(str(folder / "000000000785.jpg"))
+    right = np.ascontiguousarray(np.roll(left, -40, axis=1))
+    est = BlazePoseEstimator(pose, stereo_search="roi", tracking=False)
+    heard = []
+    est.set_early_arm_listener(lambda hint: heard.append((hint, pose.landmark_calls)))
+    calls = pose.landmark_calls
+    arm = est.estimate(left, right, _rig(left.shape[1], left.shape[0]))
+    assert len(heard) == 1 and arm is not None
+    hint, calls_then = heard[0]
+    assert calls_then == calls + 1, "told after the left landmarks, before the right ones"
+    assert np.array_equal(hint.left_px, arm.left_px)
+    assert np.allclose(hint.right_px, arm.right_px, atol=12.0)
+    est.set_early_arm_listener(None)
+    est.estimate(left, right, _rig(left.shape[1], left.shape[0]))
+    assert len(heard) == 1
+
+
 def test_stereo_detect_mode_also_finds_the_pair(pose, photos):
     folder, _ = photos
     left = cv2.imread(str(folder / "000000000785.jpg"))
