@@ -5,14 +5,15 @@ re-running pose, SIFT and selection on every frame only re-confirms it. ``Follow
 runs the full core on a keyframe, then follows the chosen object's matched features in both
 ORIGINAL images with pyramidal Lucas-Kanade optical flow (small crops around the features, no
 rectification of whole frames), checks the stereo geometry of every tracked pair (same rectified
-row, positive disparity) and returns the object's new left-image point and 3D centre. A new
+row, positive disparity) and returns the object's new left-image point and 3D centre (the
+keyframe's, moved by the features' median displacement and disparity change). A new
 keyframe runs every ``keyframe_interval`` frames, or at once when fewer than ``min_features``
 pairs survive. Timings: "track" (ms) on followed frames; the core's stages on keyframes.
 
 Cost: Lucas-Kanade's time grows with the number of points (about 27 us per point and pass on a
 crop, forward and backward, both images), so at most ``max_features`` of the object's features are
-followed: a fixed-seed random subset, whose median (the followed point) is an unbiased sample of
-the whole object's. The left and right images are tracked concurrently (cv2 releases the GIL).
+followed: a fixed-seed random subset, which only samples the object's motion (the followed point
+is the keyframe's, moved). The left and right images are tracked concurrently (cv2 releases the GIL).
 
 With ``background=True`` a keyframe runs in its own thread while the following goes on, so no
 frame waits for pose, SIFT and selection: when the keyframe's result arrives, the follower is
@@ -25,6 +26,7 @@ Configured by the ``follow.*`` parameters (``with_following`` builds it when
 
 from __future__ import annotations
 
+import math
 import time
 from concurrent.futures import Future, ThreadPoolExecutor
 
@@ -153,10 +155,21 @@ class FollowingPerception:
         members = followed_subset(np.asarray(obj.members, int), self.max_features)
         if len(members) < self.min_features:
             return
-        pts_l = self.rig.to_original(result.candidates.left_px[members], "left").astype(np.float32)
-        pts_r = self.rig.to_original(result.candidates.right_px[members], "right").astype(np.float32)
+        cands = result.candidates
+        pts_l = self.rig.to_original(cands.left_px[members], "left").astype(np.float32)
+        pts_r = self.rig.to_original(cands.right_px[members], "right").astype(np.float32)
         self._track = {"left": left, "right": right, "pts_l": pts_l, "pts_r": pts_r, "result": result,
-                       "score": float(sel.scores[sel.index]), "sigma": obj.depth_sigma_m}
+                       "score": float(sel.scores[sel.index]), "sigma": obj.depth_sigma_m,
+                       "anchor_px": np.asarray(obj.left_px, float),
+                       "anchor_disparity_px": self._disparity_of(obj, cands),
+                       "key_l": cands.left_px[members], "key_disparity_px": cands.disparity_px[members]}
+
+    def _disparity_of(self, obj: ObjectCandidate, cands: Candidates) -> float:
+        """Return the disparity of the object's centre, pixels (its members' median if its depth is unusable)."""
+        z = float(obj.xyz_m[2])
+        if math.isfinite(z) and z > 0:
+            return self.rig.focal_px * self.rig.baseline_m / z
+        return float(np.median(cands.disparity_px[np.asarray(obj.members, int)]))
 
     # -- followed frame ---------------------------------------------------------------------------
     def _follow(self, left: np.ndarray, right: np.ndarray) -> PerceptionResult | None:
@@ -179,7 +192,8 @@ class FollowingPerception:
             return None
         rect_l, rect_r = rect_l[geo], rect_r[geo]
         keep = np.nonzero(ok)[0][geo]
-        tr.update(left=left, right=right, pts_l=new_l[keep], pts_r=new_r[keep])
+        tr.update(left=left, right=right, pts_l=new_l[keep], pts_r=new_r[keep], key_l=tr["key_l"][keep],
+                  key_disparity_px=tr["key_disparity_px"][keep])
         return self._result(rect_l, rect_r, (time.perf_counter() - t0) * 1e3)
 
     def _flow(self, prev: np.ndarray, cur: np.ndarray, pts: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -202,13 +216,19 @@ class FollowingPerception:
         return new.reshape(-1, 2) + off, ok
 
     def _result(self, rect_l: np.ndarray, rect_r: np.ndarray, track_ms: float) -> PerceptionResult:
-        """Return a PerceptionResult holding the followed object (the keyframe's arm and scores)."""
+        """Return a PerceptionResult holding the followed object (the keyframe's arm and scores).
+
+        The object's point is the keyframe's, moved by the followed features' median displacement
+        (rectified px), and its disparity the keyframe's plus their median change: continuous with
+        the keyframe's result whichever features are followed.
+        """
         tr = self._track
         key = tr["result"]
         cands = Candidates(rect_l, rect_r)
         xyz = triangulate(self.core.Q, rect_l, cands.disparity_px)
-        px = np.median(rect_l, axis=0)
-        centre = triangulate(self.core.Q, px[None], [float(np.median(cands.disparity_px))])[0]
+        px = tr["anchor_px"] + np.median(rect_l - tr["key_l"], axis=0)
+        disparity = tr["anchor_disparity_px"] + float(np.median(cands.disparity_px - tr["key_disparity_px"]))
+        centre = triangulate(self.core.Q, px[None], [disparity])[0]
         obj = ObjectCandidate(px, centre, tr["sigma"], tuple(range(len(rect_l))))
         ks = key.selection
         sel = Selection(0, (obj,), np.array([tr["score"]]), ks.confidence, ks.ambiguity_margin, ks.method,

@@ -70,3 +70,18 @@ def test_max_features_caps_the_followed_points(frames):
         assert frame_correct(result.to_json(frames.rig), f.meta)
     assert follower.last_kind == "followed"
     follower.close()
+
+
+def test_followed_point_continues_from_the_keyframe_point(frames):
+    pose = GivenKeypoints("right")
+    params = load_params("fast", (), {"pose.backend": "keypoints", "follow.background": False,
+                                      "follow.max_features": 8})
+    follower = with_following(Perception(frames.rig, params, pose), params)
+    f = frames.frames[0]
+    pose.provide(f.meta["keypoints"])
+    key = follower.process(f.left, f.right)
+    same = follower.process(f.left, f.right)       # the same pair again: nothing moved
+    assert follower.last_kind == "followed"
+    assert same.target_rect_px == pytest.approx(key.target_rect_px, abs=0.05)
+    assert same.selection.target.xyz_m[2] == pytest.approx(key.selection.target.xyz_m[2], rel=1e-3)
+    follower.close()
