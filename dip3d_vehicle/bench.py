@@ -35,7 +35,7 @@ import resource
 import threading
 import time
 from dataclasses import dataclass, field
-from typing import Any, Iterable, Mapping, Sequence
+from typing import Any, Callable, Iterable, Mapping, Sequence
 
 import cv2
 import numpy as np
@@ -191,7 +191,7 @@ class BenchPose(PoseEstimator):
         """Forget the backend's tracking state."""
         self.backend.reset()
 
-    def set_early_arm_listener(self, listener) -> None:
+    def set_early_arm_listener(self, listener: Callable[[ArmKeypoints], None] | None) -> None:
         """Pass the early-arm listener to the backend (see ``PoseEstimator``)."""
         self.backend.set_early_arm_listener(listener)
 
