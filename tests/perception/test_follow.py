@@ -47,14 +47,13 @@ def test_lost_object_forces_a_keyframe(frames):
     assert follower.last_kind == "keyframe" and follower.counts["keyframes"] == 2
 
 
-def test_followed_subset_is_a_fixed_sorted_sample():
+def test_followed_subset_keeps_the_features_nearest_the_object_point():
     members = np.arange(100, 200)
-    pick = followed_subset(members, 32)
-    assert len(pick) == 32 and len(set(pick)) == 32 and np.all(np.diff(pick) > 0)
-    assert set(pick) <= set(members)
-    assert np.array_equal(pick, followed_subset(members, 32))      # deterministic
-    assert np.array_equal(followed_subset(members, 0), members)      # 0 = all
-    assert np.array_equal(followed_subset(members[:10], 32), members[:10])
+    pts = np.c_[np.arange(100.0), np.zeros(100)]            # feature k at x = k
+    pick = followed_subset(members, pts, np.array([50.2, 0.0]), 10)
+    assert list(pick) == list(range(146, 156))               # x = 46..55, in order
+    assert np.array_equal(followed_subset(members, pts, np.zeros(2), 0), members)      # 0 = all
+    assert np.array_equal(followed_subset(members[:10], pts[:10], np.zeros(2), 32), members[:10])
 
 
 def test_max_features_caps_the_followed_points(frames):
