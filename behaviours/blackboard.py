@@ -73,6 +73,7 @@ class BehaviourConfig:
     arrive_max_range_rate_m_s: float = 0.03
     release_frames: int = 3
     abort_hold_s: float = 3.0
+    resume_within_s: float = 30.0
     standoff_m: float = 1.0
     statustext: bool = True
 
@@ -133,8 +134,9 @@ class SetServo:
 class Blackboard:
     """Shared mission context.
 
-    Inputs (written by the loop each tick): ``now_s``, ``engaged``, ``hold_reason``, ``observation``
-    (a new one this tick, else None), ``perception_fresh``.
+    Inputs (written by the loop each tick): ``now_s``, ``engaged``, ``hold_reason``,
+    ``operator_enabled`` (the link's enable latch), ``observation`` (a new one this tick, else None),
+    ``perception_fresh``.
     Outputs (written by the states): ``command`` (None = no motion), ``outbox``, ``chosen``,
     ``target``, ``errors``, ``arrived``.
     """
@@ -145,6 +147,7 @@ class Blackboard:
     now_s: float = 0.0
     engaged: bool = False
     hold_reason: str = ""
+    operator_enabled: bool = False
     perception_fresh: bool = False
     observation: Observation | None = None
     last_observation: Observation | None = None

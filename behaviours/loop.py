@@ -3,7 +3,7 @@
 One tick, single-threaded, on the injected clock::
 
     link.poll()                      # telemetry, operator commands
-    blackboard <- engaged, hold reason, a new Observation if perception delivered one
+    blackboard <- engaged, hold reason, operator enable, a new Observation if perception delivered one
     mission.tick()                   # the current state's behaviour; maybe a transition
     send the states' messages        # STATUSTEXT to the pilot, DO_SET_SERVO for the lights
     link.tick(command if perception is fresh else None, perception_fresh, capture stamp)
@@ -154,7 +154,7 @@ class Controller:
             self.observations += 1
         fresh = self.perception_fresh(now)
         bb.now_s, bb.observation, bb.perception_fresh = now, observation, fresh
-        bb.engaged, bb.hold_reason = link.engaged, link.not_engaged_reason
+        bb.engaged, bb.hold_reason, bb.operator_enabled = link.engaged, link.not_engaged_reason, link.operator_enabled
         trigger = self.mission.tick()
         if observation is not None:
             bb.last_observation = observation

@@ -9,7 +9,15 @@ Read the whole mission here::
     select_target --ambiguous--> confirm_point
     servo/arrive --lost--> lost_target --reacquired--> servo; arrive --drifted--> servo
     servo/arrive/lost_target --give_up--> abort --reset--> wait_for_diver
-    every state but idle --disengage--> idle    (the link stopped commanding: pilot, loss, disable)
+    servo/arrive/lost_target --suspend--> suspended      (autopilot / ground station lost, pilot took over)
+    suspended --resume--> servo      (re-engaged after the operator's re-enable, target still tracked and fresh)
+    suspended --expired--> wait_for_diver      (re-engaged, but the target is lost or too much time passed)
+    every state but idle --disengage--> idle    (the link stopped commanding: operator disable, other causes)
+
+Stale perception only holds the current state. A disengage for one of ``SUSPEND_REASONS`` (each
+clears the operator's enable in ``dip3d_vehicle/link/engage.py``, so the link engages again only
+after a new enable) suspends a mission that has a target instead of ending it; any other disengage
+ends the mission (idle).
 
 The ``transitions`` library holds the table (``queued=True``, no auto transitions, no Timeout
 extension: every timeout is checked against the loop's clock in the state's own ``tick``). Each
@@ -23,10 +31,10 @@ from transitions import Machine
 from .blackboard import Blackboard
 from .states import STATE_CLASSES, MissionState
 
-__all__ = ["STATES", "TRANSITIONS", "Mission", "PERCEPTION_STALE"]
+__all__ = ["STATES", "TRANSITIONS", "Mission", "PERCEPTION_STALE", "SUSPEND_REASONS", "SUSPENDABLE"]
 
 STATES: list[str] = ["idle", "wait_for_diver", "confirm_point", "select_target", "acknowledge", "servo",
-                     "lost_target", "arrive", "done", "abort"]
+                     "lost_target", "arrive", "done", "abort", "suspended"]
 """Every mission state."""
 
 TRANSITIONS: list[dict] = [
@@ -46,12 +54,22 @@ TRANSITIONS: list[dict] = [
     {"trigger": "held", "source": "arrive", "dest": "done"},
     {"trigger": "released", "source": "done", "dest": "wait_for_diver"},
     {"trigger": "reset", "source": "abort", "dest": "wait_for_diver"},
+    {"trigger": "suspend", "source": ["servo", "lost_target", "arrive"], "dest": "suspended"},
+    {"trigger": "resume", "source": "suspended", "dest": "servo"},
+    {"trigger": "expired", "source": "suspended", "dest": "wait_for_diver"},
     {"trigger": "disengage", "source": [s for s in STATES if s != "idle"], "dest": "idle"},
 ]
 """The whole machine: trigger, source state(s), destination."""
 
 PERCEPTION_STALE = "perception stale"
 """The link's not-engaged reason that only holds the mission (the machine does not go to idle)."""
+
+SUSPEND_REASONS: tuple[str, ...] = ("autopilot lost", "ground station lost", "disarmed", "mode changed")
+"""Not-engaged reasons (prefixes) that suspend a mission with a target: the link's latching reasons
+(``dip3d_vehicle.link.engage.LATCHING_REASONS``), each of which clears the operator's enable."""
+
+SUSPENDABLE: tuple[str, ...] = ("servo", "lost_target", "arrive")
+"""States with a chosen target that a suspend reason suspends instead of ending the mission."""
 
 
 class Mission:
@@ -106,9 +124,18 @@ class Mission:
         return x0, y0, x1, y1
 
     def tick(self) -> str | None:
-        """Run one tick of the current state; fire its trigger. Return the trigger fired, if any."""
+        """Run one tick of the current state; fire its trigger. Return the trigger fired, if any.
+
+        When the link is not engaged (other than for stale perception) the mission is suspended
+        (a target state and a ``SUSPEND_REASONS`` reason) or ended (``disengage`` to idle) before
+        the state's own tick; ``suspended`` itself decides, in its tick, what a re-engage means.
+        """
         bb = self.bb
-        if self.state != "idle" and not bb.engaged and bb.hold_reason != PERCEPTION_STALE:
+        if self.state not in ("idle", "suspended") and not bb.engaged and bb.hold_reason != PERCEPTION_STALE:
+            if self.state in SUSPENDABLE and bb.hold_reason.startswith(SUSPEND_REASONS):
+                bb.say(f"disengaged ({bb.hold_reason}): suspending the mission, keeping the target")
+                self.trigger("suspend")
+                return "suspend"
             bb.say(f"disengaged ({bb.hold_reason or 'link'}): stopping the mission")
             self.trigger("disengage")
             return "disengage"

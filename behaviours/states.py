@@ -19,7 +19,7 @@ from .evidence import VoteBox, angular_spread_rad, arm_direction, image_directio
 from .tracker import TrackedTarget
 
 __all__ = ["MissionState", "Idle", "WaitForDiver", "ConfirmPoint", "SelectTarget", "Acknowledge",
-           "Servo", "LostTarget", "Arrive", "Done", "Abort", "STATE_CLASSES"]
+           "Servo", "LostTarget", "Arrive", "Done", "Abort", "Suspended", "STATE_CLASSES"]
 
 
 class MissionState:
@@ -381,6 +381,56 @@ class Abort(MissionState):
         return "reset" if self.elapsed(bb) >= bb.config.abort_hold_s else None
 
 
+class Suspended(MissionState):
+    """The link stopped commanding during the approach (autopilot or ground station lost, the pilot took
+    over): no motion, the target kept and tracked; when the link engages again, re-check and resume or
+    start again.
+
+    Entered only for disengage reasons that clear the operator's enable, so the link engages again
+    only after a new enable; this state also checks that it saw the enable cleared, and never
+    resumes otherwise. On re-engage: the target seen within ``behaviour.lost_grace_s`` and the
+    suspension no longer than ``behaviour.resume_within_s`` -> ``resume`` (servo); else ``expired``
+    (wait_for_diver). Not re-engaged within ``behaviour.resume_within_s`` -> ``disengage`` (idle,
+    the target forgotten).
+    """
+
+    name = "suspended"
+    triggers = ("resume", "expired", "disengage")
+    needs = "track"
+
+    def enter(self, bb: Blackboard) -> None:
+        super().enter(bb)
+        bb.stop()
+        self.enable_cleared = not bb.operator_enabled
+        bb.say("suspended: holding, target kept", "warning", pilot=True)
+        bb.say(f"resumes only after the operator's re-enable, within {bb.config.resume_within_s:g} s")
+
+    def tick(self, bb: Blackboard) -> str | None:
+        _track(bb)
+        self.enable_cleared = self.enable_cleared or not bb.operator_enabled
+        away, limit = self.elapsed(bb), bb.config.resume_within_s
+        if not bb.engaged:
+            if away > limit:
+                bb.say(f"not re-enabled in {limit:g} s: target forgotten", "warning", pilot=True)
+                return "disengage"
+            return None
+        if not self.enable_cleared:
+            bb.say("re-engaged without re-enable: not resuming", "warning", pilot=True)
+            return "expired"
+        if away > limit:
+            bb.say(f"re-engaged after {away:.1f} s > {limit:g} s: target forgotten", "notice", pilot=True)
+            return "expired"
+        seen = bb.tracker.last_seen_s if bb.tracker.active else None
+        if seen is None or bb.tracker.lost or bb.now_s - seen > bb.config.lost_grace_s:
+            bb.say("target not tracked: not resuming", "notice", pilot=True)
+            ago = "never" if seen is None else f"{bb.now_s - seen:.1f} s ago"
+            bb.say(f"re-engaged after {away:.1f} s, target last seen {ago}: waiting for the diver")
+            return "expired"
+        bb.say("target tracked: resuming the servo", pilot=True)
+        bb.say(f"re-engaged after {away:.1f} s, target seen {bb.now_s - seen:.1f} s ago")
+        return "resume"
+
+
 STATE_CLASSES: tuple[type[MissionState], ...] = (Idle, WaitForDiver, ConfirmPoint, SelectTarget, Acknowledge,
-                                                 Servo, LostTarget, Arrive, Done, Abort)
+                                                 Servo, LostTarget, Arrive, Done, Abort, Suspended)
 """Every state's behaviour class, by ``name``."""

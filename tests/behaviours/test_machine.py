@@ -11,12 +11,15 @@ from behaviours.acknowledge import ack_schedule
 from behaviours.blackboard import BehaviourConfig, Observation, SetServo, StatusText, TrackFrame
 from behaviours.evidence import VoteBox, angular_spread_rad, is_raised
 from behaviours.loop import build_mission
-from behaviours.machine import PERCEPTION_STALE, STATES, TRANSITIONS
+from behaviours.machine import PERCEPTION_STALE, STATES, SUSPEND_REASONS, SUSPENDABLE, TRANSITIONS
 from behaviours.states import STATE_CLASSES
 from dip3d_vehicle.config import load_params
+from dip3d_vehicle.link.engage import LATCHING_REASONS
 from dip3d_vehicle.perception.pipeline import PerceptionResult
 from dip3d_vehicle.perception.values import Arm3D, ArmKeypoints, Candidates, ObjectCandidate, Selection
+from dip3d_vehicle.servo.command import VelocityCommand
 from sitl.scenario import load_scenario
+from synthetic_target import target_frame
 
 FRAME_S = 0.2
 
@@ -173,9 +176,9 @@ def test_select_target_split_or_ambiguous_votes_go_back_to_confirm(rig):
     assert _feed(m, unsure)[-1] == "ambiguous"
 
 
-def test_disengage_from_any_state_goes_idle_but_stale_perception_only_holds(rig):
+def test_disengage_goes_idle_or_suspends_with_a_target_but_stale_perception_only_holds(rig):
     for state in STATES:
-        if state == "idle":
+        if state in ("idle", "suspended"):
             continue
         m = _mission(rig)
         _to(m, state)
@@ -183,7 +186,18 @@ def test_disengage_from_any_state_goes_idle_but_stale_perception_only_holds(rig)
         m.tick()
         assert m.state == state
         m.bb.hold_reason = "mode changed ALT_HOLD -> MANUAL"
-        assert m.tick() == "disengage" and m.state == "idle" and m.bb.command is None
+        if state in SUSPENDABLE:
+            assert m.tick() == "suspend" and m.state == "suspended" and m.bb.command is None
+        else:
+            assert m.tick() == "disengage" and m.state == "idle" and m.bb.command is None
+
+
+def test_an_operator_disable_or_another_cause_still_ends_the_mission(rig):
+    for reason in ("not enabled by the operator", "SYSID_MYGCS not read yet", ""):
+        m = _mission(rig)
+        _to(m, "servo")
+        m.bb.engaged, m.bb.hold_reason = False, reason
+        assert m.tick() == "disengage" and m.state == "idle", reason
 
 
 def test_acknowledge_nod_returns_to_the_start_heading_then_servo(rig):
@@ -235,6 +249,137 @@ def test_done_reports_and_waits_for_the_arm_to_come_down(rig):
     assert m.state == "done"
     _feed(m, [_result(False)] * 3)
     assert m.state == "wait_for_diver"
+
+
+# ----------------------------------------------------------------------------- suspend and resume
+def _servoing(rig, **over):
+    """A mission servoing to a tracked target (seen at t = 0), engaged and enabled."""
+    m = _mission(rig, **over)
+    cands, pts, obj = target_frame(rig)
+    m.bb.tracker.start(obj, cands, 0.0)
+    m.bb.operator_enabled = True
+    _to(m, "servo")
+    return m, TrackFrame(cands, pts)
+
+
+def _tick_at(m, t: float, track: TrackFrame | None = None):
+    """One tick at ``t`` with an optional tracking frame captured then; return the trigger fired."""
+    m.bb.now_s = t
+    m.bb.observation = Observation(t, int(t * 50), track=track) if track is not None else None
+    out = m.tick()
+    m.bb.observation = None
+    return out
+
+
+def _lose_link(m, t: float, reason: str = "autopilot lost") -> str | None:
+    """The link disengages for a latching reason: the enable is cleared (as engage.decide does)."""
+    m.bb.engaged, m.bb.hold_reason, m.bb.operator_enabled = False, reason, False
+    return _tick_at(m, t)
+
+
+def _reenable(m) -> None:
+    """Pilot re-arms / selects the mode, the operator re-enables: the link engages again."""
+    m.bb.engaged, m.bb.hold_reason, m.bb.operator_enabled = True, "", True
+
+
+def test_suspend_reasons_are_the_links_enable_clearing_reasons():
+    assert set(SUSPEND_REASONS) == set(LATCHING_REASONS)
+    suspend = next(t for t in TRANSITIONS if t["trigger"] == "suspend")
+    assert set(suspend["source"]) == set(SUSPENDABLE) and suspend["dest"] == "suspended"
+
+
+@pytest.mark.parametrize("reason", ["autopilot lost", "ground station lost", "disarmed",
+                                    "mode changed ALT_HOLD -> MANUAL"])
+@pytest.mark.parametrize("state", ["servo", "lost_target", "arrive"])
+def test_a_loss_during_the_approach_stops_motion_at_once_and_keeps_the_target(rig, state, reason):
+    m, frame = _servoing(rig)
+    _to(m, state)
+    m.bb.set_command(VelocityCommand(surge_m_s=0.2))
+    assert _lose_link(m, 0.1, reason) == "suspend"
+    assert m.state == "suspended" and m.bb.command is None and m.needs == "track"
+    assert m.bb.tracker.active and not m.bb.tracker.lost
+    assert any("suspending the mission" in line and reason in line for line in m.bb.story)
+    assert any(isinstance(o, StatusText) and "suspended" in o.text for o in m.bb.outbox)
+    # while suspended it keeps tracking the target, commands nothing, and stays until re-engaged
+    for k in range(1, 20):
+        m.bb.hold_reason = "autopilot not heard"
+        assert _tick_at(m, 0.1 + 0.2 * k, frame) is None
+        assert m.state == "suspended" and m.bb.command is None
+    assert m.bb.tracker.misses == 0 and m.bb.tracker.last_seen_s == pytest.approx(0.1 + 0.2 * 19)
+
+
+def test_re_engaged_after_the_re_enable_with_the_target_tracked_resumes_the_servo(rig):
+    m, frame = _servoing(rig, **{"behaviour.resume_within_s": 30.0})
+    _lose_link(m, 0.1)
+    for k in range(1, 40):  # 8 s suspended, the target still seen
+        _tick_at(m, 0.1 + 0.2 * k, frame)
+    _reenable(m)
+    assert _tick_at(m, 8.0, frame) == "resume" and m.state == "servo"
+    assert any("resuming the servo" in line for line in m.bb.story)
+    _tick_at(m, 8.2, frame)
+    assert m.bb.command is not None and not m.bb.command.is_neutral()  # servoing to the kept target again
+
+
+def test_re_engaged_with_the_target_lost_goes_back_to_wait_for_diver_and_says_so(rig):
+    m, frame = _servoing(rig, **{"behaviour.track_lost_frames": 3})
+    _lose_link(m, 0.1)
+    empty = TrackFrame(Candidates.empty(), np.zeros((0, 3)))
+    for k in range(1, 10):
+        _tick_at(m, 0.1 + 0.2 * k, empty)
+    assert m.bb.tracker.lost
+    _reenable(m)
+    assert _tick_at(m, 2.2, empty) == "expired" and m.state == "wait_for_diver" and m.bb.command is None
+    assert any("target not tracked" in line for line in m.bb.story)
+    assert any(isinstance(o, StatusText) and "not resuming" in o.text for o in m.bb.outbox)
+
+
+def test_re_engaged_with_the_target_not_seen_recently_goes_back_to_wait_for_diver(rig):
+    m, _ = _servoing(rig, **{"behaviour.lost_grace_s": 1.0})
+    _lose_link(m, 0.1)
+    _tick_at(m, 2.0)  # no frames at all while suspended: the last sighting is 2 s old
+    _reenable(m)
+    assert _tick_at(m, 2.02) == "expired" and m.state == "wait_for_diver"
+
+
+def test_re_engaged_too_late_goes_back_to_wait_for_diver(rig):
+    m, frame = _servoing(rig, **{"behaviour.resume_within_s": 5.0})
+    _lose_link(m, 0.1)
+    _reenable(m)
+    m.bb.engaged = False  # re-enabled, but still not engaged (not armed yet)
+    m.bb.hold_reason = "not armed"
+    for k in range(1, 25):
+        _tick_at(m, 0.1 + 0.2 * k, frame)
+    m.bb.engaged = True
+    assert _tick_at(m, 5.2, frame) == "expired" and m.state == "wait_for_diver"
+    assert any("target forgotten" in line for line in m.bb.story)
+
+
+def test_not_re_engaged_within_the_resume_time_forgets_the_target(rig):
+    m, frame = _servoing(rig, **{"behaviour.resume_within_s": 3.0})
+    _lose_link(m, 0.1)
+    fired = [_tick_at(m, 0.1 + 0.2 * k, frame) for k in range(1, 20)]
+    assert "disengage" in fired and m.state == "idle" and m.bb.command is None
+    _reenable(m)
+    assert _tick_at(m, 4.2) == "engage" and m.state == "wait_for_diver"
+
+
+def test_never_resumes_without_the_operator_s_re_enable(rig):
+    m, frame = _servoing(rig)
+    m.bb.engaged, m.bb.hold_reason = False, "disarmed"  # the enable was NOT seen cleared
+    _tick_at(m, 0.1)
+    assert m.state == "suspended"
+    for k in range(1, 5):
+        _tick_at(m, 0.1 + 0.2 * k, frame)
+    m.bb.engaged, m.bb.hold_reason = True, ""  # engaged again, but no enable cycle was ever seen
+    assert _tick_at(m, 1.2, frame) == "expired" and m.state == "wait_for_diver" and m.bb.command is None
+    assert any("without re-enable" in line for line in m.bb.story)
+
+
+def test_stale_perception_while_suspended_keeps_it_suspended(rig):
+    m, frame = _servoing(rig)
+    _lose_link(m, 0.1)
+    m.bb.hold_reason = PERCEPTION_STALE
+    assert _tick_at(m, 0.5) is None and m.state == "suspended"
 
 
 # ----------------------------------------------------------------------------- evidence
