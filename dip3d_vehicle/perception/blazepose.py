@@ -162,6 +162,10 @@ def _session(path: Path, threads: int, spin_wait: bool) -> Any:
 
 def _to_unit_rgb(crop: np.ndarray, bgr: bool, contrast: Contrast | None) -> np.ndarray:
     """Return a small uint8 crop as a (1, H, W, 3) float32 RGB tensor in 0..1 (optionally stretched)."""
+    if contrast is None and crop.ndim == 3:  # channels swapped on uint8 (8x faster than on floats)
+        x = (cv2.cvtColor(crop, cv2.COLOR_BGR2RGB) if bgr else crop).astype(np.float32)
+        x *= 1.0 / 255.0
+        return x[None]
     x = crop.astype(np.float32)
     if contrast is not None:
         lo, hi = contrast

@@ -30,8 +30,12 @@ def triangulate(Q: np.ndarray, left_px, disparity_px) -> np.ndarray:
     """
     pts = np.asarray(left_px, dtype=np.float64).reshape(-1, 2)
     d = np.asarray(disparity_px, dtype=np.float64).reshape(-1)
-    hom = np.c_[pts, d, np.ones(len(d))] @ np.asarray(Q, dtype=np.float64).T
+    rows = np.empty((len(d), 4))  # [x, y, d, 1]; filled in place (np.c_ costs 3x the rest for one point)
+    rows[:, :2], rows[:, 2], rows[:, 3] = pts, d, 1.0
+    hom = rows @ np.asarray(Q, dtype=np.float64).T
     with np.errstate(divide="ignore", invalid="ignore"):
         xyz = hom[:, :3] / hom[:, 3:4]
-    xyz[~np.isfinite(xyz).all(axis=1)] = np.nan
+    bad = ~np.isfinite(xyz).all(axis=1)
+    if bad.any():
+        xyz[bad] = np.nan
     return xyz
