@@ -111,19 +111,23 @@ class FollowingPerception:
         return result
 
     def _process_background(self, left: np.ndarray, right: np.ndarray) -> PerceptionResult:
-        """Follow on this frame; keyframes run in the keyframe thread and re-anchor when done."""
+        """Follow on this frame; keyframes run in the keyframe thread and re-anchor when done.
+
+        A keyframe that falls due (or an object lost on this frame) starts after this frame's
+        following, so the keyframe's first, most parallel work (remaps, features, pose) does not
+        slow it.
+        """
         self._collect(wait=self._track is None and self._job is not None)
-        if self._job is None and (self._track is None or self._since >= self.keyframe_interval):
-            self._job = (self._pool.submit(self.core.process, left, right), left, right)
-            self._since = 0
-            self.counts["keyframes"] += 1
-            if self._track is None:  # nothing to follow: this frame waits for the core
-                self.counts["waited"] += 1
-                result = self._collect(wait=True)
-                self.last_kind = "keyframe"
-                return result
+        if self._track is None:  # nothing to follow: this frame waits for the core
+            self._submit(left, right)
+            self.counts["waited"] += 1
+            result = self._collect(wait=True)
+            self.last_kind = "keyframe"
+            return result
         self._since += 1
-        followed = self._follow(left, right) if self._track is not None else None
+        followed = self._follow(left, right)
+        if self._job is None and (self._track is None or self._since > self.keyframe_interval):
+            self._submit(left, right)
         if followed is not None:
             self.counts["followed"] += 1
             self.last_kind = "followed"
@@ -131,6 +135,12 @@ class FollowingPerception:
         self.counts["lost"] += 1
         self.last_kind = "lost"
         return PerceptionResult("no_candidates", "followed object lost; keyframe running", timings_ms={"track": 0.0})
+
+    def _submit(self, left: np.ndarray, right: np.ndarray) -> None:
+        """Start a keyframe on this pair in the keyframe thread."""
+        self._job = (self._pool.submit(self.core.process, left, right), left, right)
+        self._since = 1
+        self.counts["keyframes"] += 1
 
     def _collect(self, wait: bool) -> PerceptionResult | None:
         """Take a finished (or, with ``wait``, the running) keyframe and re-anchor on its object."""

@@ -84,3 +84,34 @@ def test_followed_point_continues_from_the_keyframe_point(frames):
     assert same.target_rect_px == pytest.approx(key.target_rect_px, abs=0.05)
     assert same.selection.target.xyz_m[2] == pytest.approx(key.selection.target.xyz_m[2], rel=1e-3)
     follower.close()
+
+
+class _RecordingPool:
+    """A synchronous stand-in for the keyframe thread that records what was followed at each submit."""
+
+    def __init__(self, follower):
+        self.follower, self.followed_before = follower, []
+
+    def submit(self, fn, left, right):
+        from concurrent.futures import Future
+        track = self.follower._track
+        self.followed_before.append(track is not None and track["left"] is left)
+        done = Future()
+        done.set_result(fn(left, right))
+        return done
+
+    def shutdown(self):
+        pass
+
+
+def test_background_keyframe_starts_after_the_frame_is_followed(frames):
+    pose = GivenKeypoints("right")
+    core = Perception(frames.rig, load_params("fast", (), {"pose.backend": "keypoints"}), pose)
+    follower = FollowingPerception(core, keyframe_interval=2, background=True)
+    follower._pool = pool = _RecordingPool(follower)
+    for f in frames.frames:
+        pose.provide(f.meta["keypoints"])
+        follower.process(f.left, f.right)
+    # first keyframe: nothing to follow yet; the one due later starts once its frame was followed
+    assert pool.followed_before[0] is False and pool.followed_before[1:] and all(pool.followed_before[1:])
+    assert follower.counts["waited"] == 1
