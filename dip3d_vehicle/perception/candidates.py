@@ -228,8 +228,9 @@ class SiftDetector(CandidateDetector):
                  margin_px: float = 80.0) -> None:
         """Start computing this pair's features in the background, in columns predicted by ``arm_hint``.
 
-        For frame sequences: the previous frame's arm predicts the kept columns (widened by
-        ``margin_px``), so the features are computed while the pose runs. ``detect`` on the same
+        For frame sequences: the previous frame's arm (or, on a first frame, the pose's early arm)
+        predicts the kept columns (widened by ``margin_px``), so the features are computed while
+        the pose runs. ``detect`` on the same
         two arrays uses them when the real kept columns lie inside the predicted ones (features
         outside the real columns are dropped), and computes afresh otherwise.
         """

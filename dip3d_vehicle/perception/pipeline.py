@@ -118,7 +118,8 @@ class Perception:
         self.selector = selector or make_selector(params)
         self.Q = normalize_q(rig.Q, rig.disparity_sign)
         # With pose tracking the frames are a sequence: the previous frame's arm predicts where the
-        # candidates' features are, so they are computed while the pose runs (SiftDetector.prefetch).
+        # candidates' features are, so they are computed while the pose runs (SiftDetector.prefetch);
+        # without a previous arm, from the pose's early arm (left measured, right predicted).
         self.overlap = params.get("pose.backend") == "blazepose" and bool(params.get("blazepose.tracking"))
         self._last_arm: ArmKeypoints | None = None
 
