@@ -160,6 +160,11 @@ class ArmModel:
     length_sigma_m: float = 0.02
 
 
+def _norm(v: np.ndarray) -> np.ndarray:
+    """Return the Euclidean norms of vectors along the last axis."""
+    return np.sqrt(np.einsum("...j,...j->...", v, v))
+
+
 def _rays(points_px: np.ndarray, rig: StereoRig) -> np.ndarray:
     """Return (N, 3) viewing rays with z = 1 through rectified left pixels."""
     f = rig.focal_px
@@ -191,22 +196,23 @@ class _PointingFit:
         joints = self.rays[None, :, :] * x[:, :3, None]
         s, e, w = joints[:, 0], joints[:, 1], joints[:, 2]
         axis = w - s
-        u = axis / (np.linalg.norm(axis, axis=1, keepdims=True) + 1e-12)
+        u = axis / (_norm(axis)[:, None] + 1e-12)
         obj = obj_ray * x[:, 3:4]
         pts = obj[:, None, :] + obj_shape
         from_shoulder = pts - s[:, None, :]
         along = np.einsum("bkj,bj->bk", from_shoulder, u)
-        offset = np.linalg.norm(np.cross(from_shoulder, u[:, None, :]), axis=2)
+        dist = _norm(from_shoulder)
+        offset = np.sqrt(np.maximum(dist * dist - along * along, 0.0))  # |from_shoulder x u|, u a unit vector
         # a miss in metres, sigma = hypot(sigma_angle * distance, tolerance), to each object point
-        miss = np.where(along > 0, offset, np.linalg.norm(from_shoulder, axis=2))
+        miss = np.where(along > 0, offset, dist)
         spread = np.hypot(m.pointing_sigma_rad * np.maximum(along, 0.0), m.object_extent_m)
         # the diver points at some point of the object: likelihood = mean over its points
         r2 = (miss / spread) ** 2
         low = r2.min(axis=1)
         ratio = np.sqrt(np.maximum(low - 2.0 * np.log(np.mean(np.exp(-(r2 - low[:, None]) / 2.0), axis=1)), 0.0))
         behind = np.maximum(-np.sum((obj - w) * u, axis=1), 0.0)
-        bend = np.linalg.norm(np.cross(e - s, u), axis=1)
-        fore, upper = np.linalg.norm(w - e, axis=1), np.linalg.norm(e - s, axis=1)
+        fore, upper = _norm(w - e), _norm(e - s)
+        bend = np.sqrt(np.maximum(upper * upper - np.einsum("bj,bj->b", e - s, u) ** 2, 0.0))  # |(e - s) x u|
         hinge = lambda v, lo, hi: np.maximum(np.maximum(lo - v, 0.0), v - hi)  # noqa: E731
         return np.column_stack([
             (x[:, :3] - self.depth_m) / self.sigma,
@@ -238,7 +244,15 @@ class _PointingFit:
         x = np.maximum(np.vstack([measured, self.starts(obj_rays, obj_depth)]), 0.05)
         args = (np.vstack([obj_rays, obj_rays]), np.r_[obj_depth, obj_depth], np.r_[obj_sigma, obj_sigma],
                 np.concatenate([obj_shape, obj_shape]))
-        cost = _levenberg_marquardt(lambda z: self.residuals(z, *args), x, iterations)
+        tiled = {1: args}
+
+        def fun(z: np.ndarray) -> np.ndarray:
+            reps = len(z) // len(x)  # the Jacobian evaluates all its perturbed copies in one call
+            if reps not in tiled:
+                tiled[reps] = tuple(np.concatenate([a] * reps) for a in args)
+            return self.residuals(z, *tiled[reps])
+
+        cost = _levenberg_marquardt(fun, x, iterations)
         return np.minimum(cost[:n], cost[n:])
 
 
@@ -263,7 +277,11 @@ def object_shape(points_m: np.ndarray, centre_m: np.ndarray, k: int = SHAPE_POIN
 
 
 def _levenberg_marquardt(fun, x: np.ndarray, iterations: int) -> np.ndarray:
-    """Minimise sum(fun(x)**2) for a batch of independent problems x (B, P); return final costs."""
+    """Minimise sum(fun(x)**2) for a batch of independent problems x (B, P); return final costs.
+
+    ``fun`` must also accept k stacked copies of the batch (k B, P): the forward-difference
+    Jacobian evaluates all P perturbed copies in one call.
+    """
     r = fun(x)
     cost = np.sum(r * r, axis=1)
     mu = np.full(len(x), 1e-2)
@@ -271,11 +289,8 @@ def _levenberg_marquardt(fun, x: np.ndarray, iterations: int) -> np.ndarray:
     stalled = np.zeros(len(x), int)
     for _ in range(iterations):
         step = 1e-5 * np.maximum(np.abs(x), 1.0)
-        jac = np.empty(r.shape + (x.shape[1],))
-        for k in range(x.shape[1]):
-            xk = x.copy()
-            xk[:, k] += step[:, k]
-            jac[:, :, k] = (fun(xk) - r) / step[:, k:k + 1]
+        shifted = np.concatenate([x + eye[k] * step[:, k:k + 1] for k in range(x.shape[1])])
+        jac = np.moveaxis((fun(shifted).reshape((x.shape[1],) + r.shape) - r) / step.T[:, :, None], 0, 2)
         jtj = np.einsum("bri,brj->bij", jac, jac)
         grad = np.einsum("bri,br->bi", jac, r)
         damp = jtj + mu[:, None, None] * (eye * np.diagonal(jtj, axis1=1, axis2=2)[:, None, :] + 1e-9 * eye)
