@@ -20,7 +20,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "in a background thread)")
     parser.add_argument("--scenario", default="paper_pool", help="simulator scenario (default paper_pool)")
     parser.add_argument("--seeds", default="1,2,3,4", help="comma-separated scenario seeds, one sequence each")
-    parser.add_argument("--frames", type=int, default=10, help="frames per seed (default 10, at 10 Hz)")
+    parser.add_argument("--frames", type=int, default=30,
+                        help="frames per seed (default 30 = 3 s at 10 Hz: long enough that the start-up frame of each"
+                             " sequence does not dominate a following profile)")
     parser.add_argument("--size", default=None, metavar="WxH", help="render size (default the scenario camera's)")
     parser.add_argument("--source", default=None, help="a stereo folder (or source spec) instead of the simulator")
     parser.add_argument("--calib", action="append", default=[], help="calibration file(s) for --source")
