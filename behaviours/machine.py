@@ -28,6 +28,8 @@ from __future__ import annotations
 
 from transitions import Machine
 
+from dip3d_vehicle.link.engage import LATCHING_REASONS
+
 from .blackboard import Blackboard
 from .states import STATE_CLASSES, MissionState
 
@@ -64,9 +66,9 @@ TRANSITIONS: list[dict] = [
 PERCEPTION_STALE = "perception stale"
 """The link's not-engaged reason that only holds the mission (the machine does not go to idle)."""
 
-SUSPEND_REASONS: tuple[str, ...] = ("autopilot lost", "ground station lost", "disarmed", "mode changed")
-"""Not-engaged reasons (prefixes) that suspend a mission with a target: the link's latching reasons
-(``dip3d_vehicle.link.engage.LATCHING_REASONS``), each of which clears the operator's enable."""
+SUSPEND_REASONS: tuple[str, ...] = LATCHING_REASONS
+"""Not-engaged reasons (prefixes) that suspend a mission with a target: the link's latching reasons,
+each of which clears the operator's enable (so the link engages again only after a new enable)."""
 
 SUSPENDABLE: tuple[str, ...] = ("servo", "lost_target", "arrive")
 """States with a chosen target that a suspend reason suspends instead of ending the mission."""

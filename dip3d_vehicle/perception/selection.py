@@ -244,15 +244,9 @@ class _PointingFit:
         x = np.maximum(np.vstack([measured, self.starts(obj_rays, obj_depth)]), 0.05)
         args = (np.vstack([obj_rays, obj_rays]), np.r_[obj_depth, obj_depth], np.r_[obj_sigma, obj_sigma],
                 np.concatenate([obj_shape, obj_shape]))
-        tiled = {1: args}
-
-        def fun(z: np.ndarray) -> np.ndarray:
-            reps = len(z) // len(x)  # the Jacobian evaluates all its perturbed copies in one call
-            if reps not in tiled:
-                tiled[reps] = tuple(np.concatenate([a] * reps) for a in args)
-            return self.residuals(z, *tiled[reps])
-
-        cost = _levenberg_marquardt(fun, x, iterations)
+        stacked = tuple(np.concatenate([a] * x.shape[1]) for a in args)  # the Jacobian's P copies in one call
+        cost = _levenberg_marquardt(lambda z: self.residuals(z, *(args if len(z) == len(x) else stacked)),
+                                    x, iterations)
         return np.minimum(cost[:n], cost[n:])
 
 
