@@ -31,7 +31,8 @@ class PerceptionResult:
     """Everything the perception core found in one stereo pair.
 
     Attributes:
-        status: "ok", "no_pose", "pose_low_confidence", "pose_rejected" or "no_candidates".
+        status: "ok", "no_pose", "pose_low_confidence", "pose_rejected", "no_candidates" or
+            "nothing_on_ray" (objects were found but the arm points at none of them).
         reason: one line saying why when the status is not "ok".
         arm: the arm keypoints (rectified px) or None.
         arm3d: triangulated joints or None.
@@ -70,7 +71,8 @@ class PerceptionResult:
                "features": len(self.candidates), "arm": self._arm_json(rig),
                "selection": None if sel is None else {
                    "method": sel.method, "confidence": _num(sel.confidence),
-                   "ambiguity_margin": _num(sel.ambiguity_margin), "ambiguous": sel.ambiguous},
+                   "ambiguity_margin": _num(sel.ambiguity_margin), "ambiguous": sel.ambiguous,
+                   "none_probability": _num(sel.none_probability)},
                "timings_ms": {k: round(v, 2) for k, v in self.timings_ms.items()}}
         return out
 
@@ -188,6 +190,8 @@ class Perception:
             return PerceptionResult("no_candidates", "no matched features in the kept region", arm, arm3d, timings_ms=tm)
         with clock("select"):
             sel = self.selector.select(arm, arm3d, cands, xyz, self.rig)
+        if sel.nothing_on_ray:
+            return PerceptionResult("nothing_on_ray", sel.reason, arm, arm3d, cands, xyz, sel, tm)
         if sel.index is None:
             return PerceptionResult("no_candidates", "no object with enough matched features", arm, arm3d,
                                     cands, xyz, sel, tm)

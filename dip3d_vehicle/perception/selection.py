@@ -32,7 +32,7 @@ from .calibration import StereoRig
 from .triangulation import normalize_q, triangulate
 from .values import Arm3D, ArmKeypoints, Candidates, ObjectCandidate, Selection
 
-__all__ = ["PointingSelector", "PaperSelector", "DefaultSelector", "group_objects", "make_selector",
+__all__ = ["PointingSelector", "PaperSelector", "DefaultSelector", "OpenSet", "image_gate", "group_objects", "make_selector",
            "paper_distances"]
 
 SHAPE_POINTS = 12
@@ -184,6 +184,23 @@ class _PointingFit:
         self.rays, self.depth_m, self.sigma = rays, depth_m, np.maximum(depth_sigma_m, 0.01)
         self.model = model
 
+    def arm_terms(self, x: np.ndarray) -> tuple[np.ndarray, ...]:
+        """Return the arm's own weighted residuals for joint depths x (B, >=3), metres.
+
+        Depths against the stereo depths, a nearly straight arm, plausible limb lengths: the
+        terms every hypothesis shares (an object's hypothesis adds where the arm points).
+        """
+        m = self.model
+        joints = self.rays[None, :, :] * x[:, :3, None]
+        s, e, w = joints[:, 0], joints[:, 1], joints[:, 2]
+        axis = w - s
+        u = axis / (_norm(axis)[:, None] + 1e-12)
+        fore, upper = _norm(w - e), _norm(e - s)
+        bend = np.sqrt(np.maximum(upper * upper - np.einsum("bj,bj->b", e - s, u) ** 2, 0.0))  # |(e - s) x u|
+        hinge = lambda v, lo, hi: np.maximum(np.maximum(lo - v, 0.0), v - hi)  # noqa: E731
+        return ((x[:, :3] - self.depth_m) / self.sigma, bend / m.straightness_sigma_m,
+                hinge(fore, *m.forearm_m) / m.length_sigma_m, hinge(upper, *m.upperarm_m) / m.length_sigma_m)
+
     def residuals(self, x: np.ndarray, obj_ray: np.ndarray, obj_depth: np.ndarray, obj_sigma: np.ndarray,
                   obj_shape: np.ndarray) -> np.ndarray:
         """Return (B, 9) weighted residuals for depths x (B, 4), metres.
@@ -194,7 +211,7 @@ class _PointingFit:
         """
         m = self.model
         joints = self.rays[None, :, :] * x[:, :3, None]
-        s, e, w = joints[:, 0], joints[:, 1], joints[:, 2]
+        s, w = joints[:, 0], joints[:, 2]
         axis = w - s
         u = axis / (_norm(axis)[:, None] + 1e-12)
         obj = obj_ray * x[:, 3:4]
@@ -211,18 +228,18 @@ class _PointingFit:
         low = r2.min(axis=1)
         ratio = np.sqrt(np.maximum(low - 2.0 * np.log(np.mean(np.exp(-(r2 - low[:, None]) / 2.0), axis=1)), 0.0))
         behind = np.maximum(-np.sum((obj - w) * u, axis=1), 0.0)
-        fore, upper = _norm(w - e), _norm(e - s)
-        bend = np.sqrt(np.maximum(upper * upper - np.einsum("bj,bj->b", e - s, u) ** 2, 0.0))  # |(e - s) x u|
-        hinge = lambda v, lo, hi: np.maximum(np.maximum(lo - v, 0.0), v - hi)  # noqa: E731
-        return np.column_stack([
-            (x[:, :3] - self.depth_m) / self.sigma,
-            (x[:, 3] - obj_depth) / np.maximum(obj_sigma, 0.01),
-            ratio,
-            bend / m.straightness_sigma_m,
-            hinge(fore, *m.forearm_m) / m.length_sigma_m,
-            hinge(upper, *m.upperarm_m) / m.length_sigma_m,
-            behind / m.length_sigma_m,
-        ])
+        depth, bend, fore, upper = self.arm_terms(x)
+        return np.column_stack([depth, (x[:, 3] - obj_depth) / np.maximum(obj_sigma, 0.01), ratio, bend,
+                                fore, upper, behind / m.length_sigma_m])
+
+    def arm_cost(self, iterations: int = 25) -> float:
+        """Return the minimum cost of the arm alone: "it points at some point nobody detected".
+
+        The pointing term is free (any point along the fitted arm's ray fits it exactly), so what
+        remains is the arm's own terms; an object's cost minus this is what pointing at it costs.
+        """
+        x = np.maximum(self.depth_m[None, :].copy(), 0.05)
+        return float(_levenberg_marquardt(lambda z: np.column_stack(self.arm_terms(z)), x, iterations)[0])
 
     def starts(self, obj_ray: np.ndarray, obj_depth: np.ndarray) -> np.ndarray:
         """Return (B, 4) starts aiming the arm from the measured wrist at each object."""
@@ -301,25 +318,82 @@ def _levenberg_marquardt(fun, x: np.ndarray, iterations: int) -> np.ndarray:
     return cost
 
 
+@dataclass(frozen=True)
+class OpenSet:
+    """The "nothing detected there" hypothesis of the default selector.
+
+    Attributes:
+        none_prior: prior probability that the pointed object produced no candidate at all
+            (small, far, faint, hidden), before the arm is looked at.
+        none_solid_angle_sr: solid angle (steradians, seen from the shoulder) over which such an
+            undetected target is spread uniformly; an object competes with it through the pointing
+            model's own angular density 1 / (2 pi sigma^2).
+        gate_sigmas: an object farther than this many sigmas from the arm's direction IN THE LEFT
+            IMAGE (or behind the wrist there) can never be chosen, whatever the 3D fit says.
+        gate_min_rad: the image gate is never narrower than this, radians.
+    """
+
+    none_prior: float = 0.2
+    none_solid_angle_sr: float = 1.0
+    gate_sigmas: float = 4.0
+    gate_min_rad: float = 0.26
+
+
+def image_gate(arm: ArmKeypoints, objects: list[ObjectCandidate], points_px: list[np.ndarray], rig: StereoRig,
+               arm3d: Arm3D, model: ArmModel, open_set: OpenSet) -> np.ndarray:
+    """Return a bool per object: can the arm's direction in the left image point at it?
+
+    The shoulder-to-wrist line in the image, seen from the shoulder, must pass within the gate of
+    some point of the object, and the object must not lie behind the wrist along it. The gate
+    widens when the arm is foreshortened (pointing toward or away from the camera: its image
+    direction then says little) and with the keypoints' own noise over the arm's image length.
+    """
+    s2, w2 = arm.joint("shoulder"), arm.joint("wrist")
+    axis = w2 - s2
+    length_px = float(np.linalg.norm(axis))
+    if length_px < 1.0:
+        return np.ones(len(objects), bool)
+    u = axis / length_px
+    full_px = rig.focal_px * float(np.linalg.norm(arm3d.joint("wrist") - arm3d.joint("shoulder")))
+    full_px /= max(float(arm3d.joint("shoulder")[2]), 0.1)
+    shortening = float(np.clip(length_px / max(full_px, 1e-6), 0.1, 1.0))
+    sigma = math.hypot(model.pointing_sigma_rad / shortening, 2.0 * model.keypoint_sigma_px / length_px)
+    gate = float(np.clip(open_set.gate_sigmas * sigma, open_set.gate_min_rad, math.pi / 2))
+    keep = np.zeros(len(objects), bool)
+    for k, pts in enumerate(points_px):
+        rel = pts - s2
+        along = rel @ u
+        angle = np.arctan2(np.abs(rel[:, 0] * u[1] - rel[:, 1] * u[0]), along)
+        ahead = along > length_px
+        keep[k] = bool(np.any(ahead & (angle <= gate)))
+    return keep
+
+
 class DefaultSelector(PointingSelector):
-    """Direction-aware, object-level selection with stereo depth uncertainty and a confidence."""
+    """Direction-aware, object-level, open-set selection with stereo depth uncertainty."""
 
     method = "default"
 
     def __init__(self, model: ArmModel = ArmModel(), group_radius_px: float = 20.0, group_radius_m: float = 0.05,
-                 min_object_features: int = 3, min_confidence: float = 0.6, object_radius_m: float = 0.15) -> None:
-        self.model = model
+                 min_object_features: int = 3, min_confidence: float = 0.6, object_radius_m: float = 0.15,
+                 open_set: OpenSet = OpenSet()) -> None:
+        self.model, self.open_set = model, open_set
         self.object_radius_m = object_radius_m
         self.group_radius_px, self.group_radius_m = group_radius_px, group_radius_m
         self.min_object_features, self.min_confidence = min_object_features, min_confidence
 
     def select(self, arm: ArmKeypoints, arm3d: Arm3D, candidates: Candidates, xyz_m: np.ndarray,
                rig: StereoRig) -> Selection:
-        """Group candidates into objects, fit the pointing hypothesis for each, return the posterior."""
+        """Group candidates into objects, fit the pointing hypothesis for each, return the posterior.
+
+        The hypotheses are "the arm points at object i" for every object and "it points at
+        something that was not detected"; their probabilities are absolute (they sum to 1).
+        """
         objects = group_objects(candidates, xyz_m, rig, self.group_radius_px, self.group_radius_m,
                                 self.min_object_features, self.object_radius_m)
         if not objects:
-            return Selection(None, (), np.zeros(0), 0.0, math.inf, self.method, True)
+            return Selection(None, (), np.zeros(0), 0.0, math.inf, self.method, True, 0.0,
+                             "no object with enough matched features")
         rows = (arm.left_px[:, 1] + arm.right_px[:, 1]) / 2.0
         rays = _rays(np.c_[arm.left_px[:, 0], rows], rig)
         fit = _PointingFit(rays, arm3d.xyz_m[:, 2], arm3d.depth_sigma_m, self.model)
@@ -327,13 +401,38 @@ class DefaultSelector(PointingSelector):
         shapes = np.stack([object_shape(xyz_m[list(o.members)], o.xyz_m) for o in objects])
         costs = fit.costs(obj_rays, np.array([o.xyz_m[2] for o in objects]),
                           np.array([o.depth_sigma_m for o in objects]), shapes)
-        post = np.exp(-(costs - costs.min()) / 2.0)
-        post /= post.sum()
-        order = np.argsort(costs)
-        margin = float(costs[order[1]] - costs[order[0]]) / 2.0 if len(order) > 1 else math.inf
-        confidence = float(post[order[0]])
-        return Selection(int(order[0]), tuple(objects), post, confidence, margin, self.method,
-                         confidence < self.min_confidence)
+        allowed = image_gate(arm, objects, [candidates.left_px[list(o.members)] for o in objects], rig, arm3d,
+                             self.model, self.open_set)
+        log_odds = self._log_odds(costs, fit.arm_cost(), objects, arm3d)
+        log_odds = np.where(allowed, log_odds, -np.inf)
+        top = max(float(log_odds.max()), 0.0)
+        weights = np.exp(log_odds - top)
+        none_weight = math.exp(-top)
+        total = float(weights.sum()) + none_weight
+        post, p_none = weights / total, none_weight / total
+        order = np.argsort(-log_odds)
+        best = int(order[0])
+        ranked = sorted([*log_odds.tolist(), 0.0], reverse=True)
+        margin = (ranked[0] - ranked[1]) if len(ranked) > 1 else math.inf
+        if p_none >= post[best]:
+            why = (f"the arm points at nothing detected (P {p_none:.2f}); best object P {post[best]:.2f}"
+                   if np.isfinite(log_odds[best]) else
+                   f"the arm points at nothing detected: every object lies outside the arm's direction in the image")
+            return Selection(None, tuple(objects), post, float(p_none), float(margin), self.method,
+                             p_none < self.min_confidence, float(p_none), why)
+        confidence = float(post[best])
+        return Selection(best, tuple(objects), post, confidence, float(margin), self.method,
+                         confidence < self.min_confidence, float(p_none))
+
+    def _log_odds(self, costs: np.ndarray, arm_cost: float, objects: list[ObjectCandidate], arm3d: Arm3D) -> np.ndarray:
+        """Return each object's log odds against "nothing detected" (prior x likelihood ratio)."""
+        m, o = self.model, self.open_set
+        shoulder = arm3d.joint("shoulder")
+        dist = np.array([float(np.linalg.norm(obj.xyz_m - shoulder)) for obj in objects])
+        sigma = np.hypot(m.pointing_sigma_rad, m.object_extent_m / np.maximum(dist, 0.1))
+        density = np.log(o.none_solid_angle_sr / (2.0 * math.pi * sigma ** 2))
+        prior = math.log((1.0 - o.none_prior) / (len(objects) * o.none_prior))
+        return prior + density - (costs - arm_cost) / 2.0
 
 
 def arm_model_from_params(params: Mapping) -> ArmModel:
@@ -344,10 +443,17 @@ def arm_model_from_params(params: Mapping) -> ArmModel:
                     params["selection.object_extent_m"])
 
 
+def open_set_from_params(params: Mapping) -> OpenSet:
+    """Return the default selector's "nothing detected" hypothesis from ``selection.*`` parameters."""
+    return OpenSet(params["selection.none_prior"], params["selection.none_solid_angle_sr"],
+                   params["selection.gate_sigmas"], params["selection.gate_min_rad"])
+
+
 def make_selector(params: Mapping) -> PointingSelector:
     """Return the selector named by ``selection.method``."""
     if params["selection.method"] == "paper":
         return PaperSelector(params["selection.extension_factor"])
     return DefaultSelector(arm_model_from_params(params), params["selection.group_radius_px"],
                            params["selection.group_radius_m"], params["selection.min_object_features"],
-                           params["selection.min_confidence"], params["selection.object_radius_m"])
+                           params["selection.min_confidence"], params["selection.object_radius_m"],
+                           open_set_from_params(params))

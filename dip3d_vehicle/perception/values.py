@@ -131,6 +131,10 @@ class Selection:
         ambiguity_margin: best minus second-best in the selector's own units (inf if one object).
         method: "paper" or "default".
         ambiguous: True when the confidence is under the configured minimum.
+        none_probability: probability that the arm points at nothing that was detected (the
+            open-set hypothesis of the ``default`` selector; 0 for ``paper``). ``scores`` and
+            ``confidence`` are then absolute: they and ``none_probability`` sum to 1.
+        reason: one line saying why nothing was chosen (empty when an object was).
     """
 
     index: int | None
@@ -140,6 +144,13 @@ class Selection:
     ambiguity_margin: float
     method: str
     ambiguous: bool = False
+    none_probability: float = 0.0
+    reason: str = ""
+
+    @property
+    def nothing_on_ray(self) -> bool:
+        """Return True when "the arm points at nothing detected" won over every object."""
+        return self.index is None and len(self.objects) > 0 and self.none_probability > 0.0
 
     @property
     def target(self) -> ObjectCandidate | None:
