@@ -16,6 +16,7 @@ import numpy as np
 
 from .calibration import StereoRig
 from .candidates import CandidateDetector, SiftDetector
+from .corridor import CorridorDetector, merge_candidates
 from .filters import candidate_keep, pose_rejection
 from .pose import PoseEstimator
 from .selection import PointingSelector, make_selector
@@ -118,6 +119,7 @@ class Perception:
         self.rig, self.params, self.pose = rig, params, pose
         self.detector = detector or SiftDetector.from_params(params)
         self.selector = selector or make_selector(params)
+        self.corridor = CorridorDetector.from_params(params) if params.get("corridor.enabled") else None
         self.Q = normalize_q(rig.Q, rig.disparity_sign)
         # With pose tracking the frames are a sequence: the previous frame's arm predicts where the
         # candidates' features are, so they are computed while the pose runs (SiftDetector.prefetch);
@@ -164,7 +166,16 @@ class Perception:
         if "match" in split:  # "candidates" = features (both images), "match" = matching
             tm["match"] = tm.get("match", 0.0) + split["match"]
             tm["candidates"] -= split["match"]
+        with clock("corridor"):
+            cands = self.add_corridor(left_rect, right_rect, arm, cands)
         return self.decide(early, cands, tm)
+
+    def add_corridor(self, left_rect: np.ndarray, right_rect: np.ndarray, arm: ArmKeypoints,
+                     cands: Candidates) -> Candidates:
+        """Return ``cands`` plus the corridor's matches along where the arm points (if enabled)."""
+        if self.corridor is None:
+            return cands
+        return merge_candidates(cands, self.corridor.detect(left_rect, right_rect, arm, self.rig))
 
     def check_arm(self, arm: ArmKeypoints | None) -> PerceptionResult:
         """Triangulate and filter the arm; status "ok" when it may be used for selection."""
@@ -174,7 +185,8 @@ class Perception:
             return PerceptionResult("pose_low_confidence", f"keypoint confidence {arm.min_confidence():.2f} under "
                                     f"pose.min_confidence {self.params['pose.min_confidence']:g}", arm)
         arm3d = self.triangulate_arm(arm)
-        why = pose_rejection(arm3d.xyz_m, self.params["filters.max_joint_dz_m"], self.params["filters.min_depth_m"])
+        why = pose_rejection(arm3d.xyz_m, self.params["filters.max_joint_dz_m"], self.params["filters.min_depth_m"],
+                             arm3d.depth_sigma_m, self.params["filters.joint_dz_sigmas"])
         return PerceptionResult("pose_rejected" if why else "ok", why or "", arm, arm3d)
 
     def decide(self, checked: PerceptionResult, cands: Candidates, timings: dict | None = None) -> PerceptionResult:

@@ -403,7 +403,7 @@ class DefaultSelector(PointingSelector):
                           np.array([o.depth_sigma_m for o in objects]), shapes)
         allowed = image_gate(arm, objects, [candidates.left_px[list(o.members)] for o in objects], rig, arm3d,
                              self.model, self.open_set)
-        log_odds = self._log_odds(costs, fit.arm_cost(), objects, arm3d)
+        log_odds = self._log_odds(costs, fit.arm_cost(), objects, arm, arm3d)
         log_odds = np.where(allowed, log_odds, -np.inf)
         top = max(float(log_odds.max()), 0.0)
         weights = np.exp(log_odds - top)
@@ -424,13 +424,26 @@ class DefaultSelector(PointingSelector):
         return Selection(best, tuple(objects), post, confidence, float(margin), self.method,
                          confidence < self.min_confidence, float(p_none))
 
-    def _log_odds(self, costs: np.ndarray, arm_cost: float, objects: list[ObjectCandidate], arm3d: Arm3D) -> np.ndarray:
-        """Return each object's log odds against "nothing detected" (prior x likelihood ratio)."""
+    def _log_odds(self, costs: np.ndarray, arm_cost: float, objects: list[ObjectCandidate], arm: ArmKeypoints,
+                  arm3d: Arm3D) -> np.ndarray:
+        """Return each object's log odds against "nothing detected" (prior x likelihood ratio).
+
+        "Nothing detected" spreads the target uniformly over ``none_solid_angle_sr``; an object
+        concentrates it by the pointing model's density, widened by how well this frame's arm
+        direction is known (Laplace's Occam factor: the stereo depths of shoulder and wrist leave
+        the arm's tilt toward or away from the camera uncertain, its direction in the image is
+        sharp). The exponent is the MAP fit's cost over the arm's own cost.
+        """
         m, o = self.model, self.open_set
-        shoulder = arm3d.joint("shoulder")
+        shoulder, wrist = arm3d.joint("shoulder"), arm3d.joint("wrist")
+        length_m = max(float(np.linalg.norm(wrist - shoulder)), 0.1)
+        tilt = min(float(np.hypot(arm3d.depth_sigma_m[0], arm3d.depth_sigma_m[2])) / length_m, 0.5)
+        length_px = max(float(np.linalg.norm(arm.joint("wrist") - arm.joint("shoulder"))), 1.0)
+        across = math.sqrt(2.0) * m.keypoint_sigma_px / length_px
         dist = np.array([float(np.linalg.norm(obj.xyz_m - shoulder)) for obj in objects])
-        sigma = np.hypot(m.pointing_sigma_rad, m.object_extent_m / np.maximum(dist, 0.1))
-        density = np.log(o.none_solid_angle_sr / (2.0 * math.pi * sigma ** 2))
+        sigma2 = m.pointing_sigma_rad ** 2 + (m.object_extent_m / np.maximum(dist, 0.1)) ** 2
+        density = math.log(o.none_solid_angle_sr / (2.0 * math.pi)) - 0.5 * np.log((sigma2 + tilt ** 2) *
+                                                                                 (sigma2 + across ** 2))
         prior = math.log((1.0 - o.none_prior) / (len(objects) * o.none_prior))
         return prior + density - (costs - arm_cost) / 2.0
 

@@ -87,7 +87,11 @@ def test_default_picks_object_ahead_where_paper_picks_distractor_behind():
     default = Perception(RIG, p_default, None, detector=object()).selector.select(arm, arm3d, cands, xyz, RIG)
     members = list(default.target.members)
     assert np.all(labels[members] == 0)
-    assert default.confidence > 0.95 and not default.ambiguous
+    # confidence is absolute (the "nothing detected" hypothesis holds the rest): high, and the
+    # target takes > 95 % of what the two objects share
+    assert default.confidence > 0.9 and not default.ambiguous
+    assert default.confidence / float(np.sum(default.scores)) > 0.95
+    assert default.none_probability < 0.1
     assert p_paper["selection.method"] == "paper"
 
 
@@ -129,3 +133,78 @@ def test_no_objects_gives_no_target():
     empty = Candidates.empty()
     for sel in (PaperSelector(), DefaultSelector()):
         assert sel.select(arm, arm3d, empty, np.zeros((0, 3)), RIG).index is None
+
+
+def _arm_right(z: float = 2.5) -> tuple[ArmKeypoints, np.ndarray]:
+    """Return an arm pointing to the right and a little up (+x, -y) at depth z, and its unit direction."""
+    shoulder = np.array([-0.4, 0.0, z])
+    u = np.array([1.0, -0.25, 0.0])
+    u /= np.linalg.norm(u)
+    return arm_from_3d(np.array([shoulder, shoulder + 0.3 * u, shoulder + 0.58 * u])), u
+
+
+def _select(arm: ArmKeypoints, pts: np.ndarray, **sets):
+    """Run the default selector (profile defaults plus ``sets``) on exact candidates at ``pts``."""
+    cands, xyz = candidates_of(pts)
+    params = load_params("default", overrides=sets)
+    perception = Perception(RIG, params, None, detector=object())
+    arm3d = perception.triangulate_arm(arm)
+    return perception.selector.select(arm, arm3d, cands, xyz, RIG), perception, cands
+
+
+def test_nothing_on_ray_when_the_only_object_lies_off_the_arm():
+    """The arm points up-right; the one detected object is below-right of the wrist: nothing detected wins."""
+    arm, u = _arm_right()
+    wrist = np.array([-0.4, 0.0, 2.5]) + 0.58 * u
+    off = wrist + np.array([0.5, 0.45, 0.0])  # below-right of the wrist, ~60 deg off the arm
+    sel, _, _ = _select(arm, cluster(off, 20, 0.1, seed=7))
+    assert sel.index is None and sel.nothing_on_ray
+    assert sel.none_probability > 0.9 and sel.confidence == pytest.approx(sel.none_probability)
+    assert "nothing detected" in sel.reason
+    assert float(np.sum(sel.scores)) + sel.none_probability == pytest.approx(1.0)
+
+
+def test_object_on_the_ray_beats_nothing_detected_and_probabilities_are_absolute():
+    """An object 2 deg off the arm, ahead: chosen with high absolute probability; all sum to 1."""
+    arm, u = _arm_right()
+    shoulder = np.array([-0.4, 0.0, 2.5])
+    target = shoulder + 2.0 * u + np.array([0.0, 0.0, 0.05])
+    other = shoulder + 2.0 * u + np.array([0.3, 0.8, 0.0])
+    sel, _, _ = _select(arm, np.vstack([cluster(target, 15, 0.08, seed=8), cluster(other, 15, 0.08, seed=9)]))
+    assert sel.index is not None and not sel.ambiguous
+    assert sel.confidence > 0.8 and sel.none_probability < 0.2
+    assert float(np.sum(sel.scores)) + sel.none_probability == pytest.approx(1.0)
+
+
+def test_object_outside_the_arms_image_direction_can_never_win():
+    """Even with "nothing detected" made very unlikely, an object behind the wrist in the image loses."""
+    arm, u = _arm_right()
+    shoulder = np.array([-0.4, 0.0, 2.5])
+    behind = shoulder - 0.6 * u + np.array([0.0, 0.05, 0.0])
+    sel, _, _ = _select(arm, cluster(behind, 20, 0.1, seed=10), **{"selection.none_prior": 0.001})
+    assert sel.index is None and sel.nothing_on_ray
+    assert sel.scores[0] == 0.0
+
+
+def test_pipeline_reports_nothing_on_ray_with_reason_and_json():
+    """decide() turns the open-set answer into status nothing_on_ray, target null, a one-line reason."""
+    arm, u = _arm_right()
+    wrist = np.array([-0.4, 0.0, 2.5]) + 0.58 * u
+    cands, _ = candidates_of(cluster(wrist + np.array([0.5, 0.45, 0.0]), 20, 0.1, seed=7))
+    perception = Perception(RIG, load_params("default"), None, detector=object())
+    result = perception.decide(perception.check_arm(arm), cands)
+    assert result.status == "nothing_on_ray" and result.target_rect_px is None
+    doc = result.to_json(RIG)
+    assert doc["target"] is None and "\n" not in doc["reason"] and doc["reason"]
+    assert doc["selection"]["none_probability"] > 0.9
+    assert len(doc["candidates"]) == 1
+
+
+def test_paper_selector_has_no_open_set():
+    """The paper's rule is unchanged: always the nearest feature, none_probability 0."""
+    arm, u = _arm_right()
+    wrist = np.array([-0.4, 0.0, 2.5]) + 0.58 * u
+    cands, xyz = candidates_of(cluster(wrist + np.array([0.5, 0.45, 0.0]), 5, 0.1, seed=7))
+    perception = Perception(RIG, load_params("paper"), None, detector=object())
+    sel = perception.selector.select(arm, perception.triangulate_arm(arm), cands, xyz, RIG)
+    assert sel.index is not None and sel.none_probability == 0.0 and sel.confidence == 1.0

@@ -1,0 +1,190 @@
+"""Candidates along the pointing corridor: where the diver points, look harder.
+
+One SIFT pass over the half-resolution image loses small, faint, distant objects (about 50 px in
+attenuated water). This stage looks only where the arm points: the image region around the
+projected pointing ray (the 2D half-line from the wrist along the shoulder-to-wrist direction,
+widened by the pointing spread), with local contrast normalisation (CLAHE) and a low SIFT
+contrast threshold, in both rectified images, matched along the same rows. Its matches join the
+ordinary candidates (those already found nearby are not added twice).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from typing import Mapping
+
+import cv2
+import numpy as np
+from scipy.spatial import cKDTree
+
+from .calibration import StereoRig
+from .candidates import match_row_band
+from .threads import shared_pool
+from .values import ArmKeypoints, Candidates
+
+__all__ = ["CorridorDetector", "corridor_polygon", "merge_candidates"]
+
+
+def corridor_polygon(arm: ArmKeypoints, width: int, height: int, half_angle_rad: float,
+                     start_px: float, min_half_width_px: float) -> np.ndarray | None:
+    """Return the corridor (a wedge from the wrist to the image border) as a (4, 2) polygon, left px.
+
+    The wedge starts ``start_px`` beyond the wrist along the shoulder-to-wrist direction, is at
+    least ``min_half_width_px`` wide on each side there, and opens by ``half_angle_rad`` each side.
+    None when the arm has no direction in the image.
+    """
+    s, w = arm.joint("shoulder"), arm.joint("wrist")
+    axis = w - s
+    norm = float(np.linalg.norm(axis))
+    if norm < 1.0:
+        return None
+    u = axis / norm
+    n = np.array([-u[1], u[0]])
+    reach = float(np.hypot(width, height))
+    start = w + start_px * u
+    end = w + reach * u
+    near = min_half_width_px
+    far = near + reach * math.tan(half_angle_rad)
+    return np.array([start + near * n, end + far * n, end - far * n, start - near * n])
+
+
+def merge_candidates(base: Candidates, extra: Candidates, radius_px: float = 3.0) -> Candidates:
+    """Return ``base`` plus the ``extra`` candidates not within ``radius_px`` of a base one (left px)."""
+    if len(extra) == 0:
+        return base
+    if len(base):
+        dist, _ = cKDTree(base.left_px).query(extra.left_px, k=1)
+        extra = extra.subset(dist > radius_px)
+    if len(extra) == 0:
+        return base
+    desc = (np.vstack([base.descriptors, extra.descriptors])
+            if base.descriptors.shape[1:] == extra.descriptors.shape[1:] else np.zeros((0, 0), np.float32))
+    sizes = np.r_[base.sizes_px, extra.sizes_px] if len(base.sizes_px) == len(base) else np.zeros(0)
+    return Candidates(np.vstack([base.left_px, extra.left_px]), np.vstack([base.right_px, extra.right_px]),
+                      desc, sizes)
+
+
+class CorridorDetector:
+    """SIFT with CLAHE and a low contrast threshold inside the pointing corridor of both images."""
+
+    name = "corridor"
+
+    def __init__(self, half_angle_rad: float = 0.2, start_px: float = 40.0, min_half_width_px: float = 40.0,
+                 image_scale: float = 0.5, contrast_threshold: float = 0.01, clahe_clip: float = 3.0,
+                 lowe_ratio: float = 0.6, row_tolerance_px: float = 1.5, min_disparity_px: float = 0.5,
+                 min_depth_m: float = 1.0, max_area_px: float = 300_000.0, tiles: int = 4) -> None:
+        self.half_angle_rad, self.start_px, self.min_half_width_px = half_angle_rad, start_px, min_half_width_px
+        self.image_scale, self.lowe_ratio = image_scale, lowe_ratio
+        self.row_tolerance_px, self.min_disparity_px, self.min_depth_m = row_tolerance_px, min_disparity_px, min_depth_m
+        self.max_area_px, self.tiles = max_area_px, tiles
+        self._clahe = cv2.createCLAHE(clipLimit=clahe_clip, tileGridSize=(8, 8))
+        self._sifts = tuple(cv2.SIFT_create(contrastThreshold=contrast_threshold) for _ in range(2))
+        self.last_polygon: np.ndarray | None = None
+        self.last_timings_ms: dict[str, float] = {}
+
+    @classmethod
+    def from_params(cls, params: Mapping) -> "CorridorDetector":
+        """Build the detector from effective parameters (``corridor.*``)."""
+        return cls(params["corridor.half_angle_rad"], params["candidates.mask_offset_px"],
+                   params["corridor.min_half_width_px"], params["corridor.image_scale"],
+                   params["corridor.sift_contrast_threshold"], params["corridor.clahe_clip"],
+                   params["candidates.lowe_ratio"], params["candidates.row_tolerance_px"],
+                   params["candidates.min_disparity_px"], params["corridor.min_depth_m"],
+                   params["corridor.max_area_px"])
+
+    def detect(self, left_rect: np.ndarray, right_rect: np.ndarray, arm: ArmKeypoints, rig: StereoRig) -> Candidates:
+        """Return the matches found inside the corridor (rectified px), with SIFT descriptors.
+
+        The wedge is cut into ``tiles`` pieces along its axis, each scanned in its own tight box
+        (a diagonal wedge's bounding box would be several times its area); a piece's right-image
+        box is the left one widened by the disparity range.
+        """
+        t0 = time.perf_counter()
+        height, width = left_rect.shape[:2]
+        poly = corridor_polygon(arm, width, height, self.half_angle_rad, self.start_px, self.min_half_width_px)
+        self.last_polygon = poly
+        if poly is None:
+            return Candidates.empty()
+        max_disp = rig.focal_px * rig.baseline_m / self.min_depth_m
+        sign = rig.disparity_sign
+        boxes = [b for b in (_clip_box(piece, width, height) for piece in _pieces(poly, self.tiles)) if b is not None]
+        if not boxes:
+            return Candidates.empty()
+        area = sum((x1 - x0) * (y1 - y0) for x0, y0, x1, y1 in boxes) * self.image_scale ** 2 * 4.0
+        scale = self.image_scale * min(1.0, math.sqrt(self.max_area_px / max(area, 1.0)))
+        right_boxes = [(int(max(0, x0 - max_disp)), y0, x1, y1) if sign > 0 else (x0, y0, int(min(width, x1 + max_disp)), y1)
+                       for x0, y0, x1, y1 in boxes]
+        masks = [_polygon_mask(poly, box) for box in boxes]
+        right_job = shared_pool("sift", 2).submit(self._scan, right_rect, right_boxes, [None] * len(boxes), scale, 1)
+        pl, dl = self._scan(left_rect, boxes, masks, scale, 0)
+        pr, dr = right_job.result()
+        qi, ti = match_row_band(pl, dl, pr, dr, self.lowe_ratio, self.row_tolerance_px,
+                                (self.min_disparity_px, max_disp), sign)
+        self.last_timings_ms = {"corridor": (time.perf_counter() - t0) * 1e3}
+        if len(qi) == 0:
+            return Candidates.empty()
+        return Candidates(pl[qi], pr[ti], dl[qi], np.zeros(len(qi)))
+
+    def _scan(self, image: np.ndarray, boxes: list, masks: list, scale: float, which: int
+              ) -> tuple[np.ndarray, np.ndarray]:
+        """Return the features of every box, duplicates from overlapping boxes removed."""
+        pts, descs = [], []
+        for box, mask in zip(boxes, masks):
+            p, d = self._features(image, box, mask, scale, which)
+            if len(p) and pts:
+                prev = np.vstack(pts)
+                dist, _ = cKDTree(prev).query(p, k=1)
+                p, d = p[dist > 1.0], d[dist > 1.0]
+            pts.append(p)
+            descs.append(d)
+        return np.vstack(pts), np.vstack(descs)
+
+    def _features(self, image: np.ndarray, box: tuple[int, int, int, int], mask: np.ndarray | None,
+                  scale: float, which: int) -> tuple[np.ndarray, np.ndarray]:
+        """Return (points px, descriptors) of SIFT features on the CLAHE-normalised box (and mask)."""
+        x0, y0, x1, y1 = box
+        crop = image[y0:y1, x0:x1]
+        gray = crop if crop.ndim == 2 else cv2.cvtColor(crop, cv2.COLOR_BGR2GRAY)
+        if scale != 1.0:
+            gray = cv2.resize(gray, None, fx=scale, fy=scale, interpolation=cv2.INTER_AREA)
+            if mask is not None:
+                mask = cv2.resize(mask, (gray.shape[1], gray.shape[0]), interpolation=cv2.INTER_NEAREST)
+        if min(gray.shape[:2]) < 16:
+            return np.zeros((0, 2)), np.zeros((0, 128), np.float32)
+        kps, desc = self._sifts[which].detectAndCompute(self._clahe.apply(gray), mask)
+        if not kps:
+            return np.zeros((0, 2)), np.zeros((0, 128), np.float32)
+        pts = np.array([k.pt for k in kps], np.float64)
+        pts = (pts + 0.5) / scale - 0.5
+        pts += [x0, y0]
+        return pts, desc.astype(np.float32)
+
+
+def _pieces(poly: np.ndarray, n: int) -> list[np.ndarray]:
+    """Return the wedge cut into ``n`` quadrilaterals along its axis (start edge to far edge)."""
+    a0, a1, b1, b0 = poly  # start+, end+, end-, start-
+    out = []
+    for k in range(n):
+        t0, t1 = k / n, (k + 1) / n
+        out.append(np.array([a0 + (a1 - a0) * t0, a0 + (a1 - a0) * t1, b0 + (b1 - b0) * t1, b0 + (b1 - b0) * t0]))
+    return out
+
+
+def _polygon_mask(poly: np.ndarray, box: tuple[int, int, int, int]) -> np.ndarray:
+    """Return a uint8 mask of the polygon inside a box (255 inside)."""
+    x0, y0, x1, y1 = box
+    mask = np.zeros((y1 - y0, x1 - x0), np.uint8)
+    cv2.fillConvexPoly(mask, np.round(poly - [x0, y0]).astype(np.int32), 255)
+    return mask
+
+
+def _clip_box(poly: np.ndarray, width: int, height: int, margin_px: int = 12) -> tuple[int, int, int, int] | None:
+    """Return the polygon's bounding box (plus a margin for SIFT's border) clipped to the image, or None."""
+    x0, y0 = np.floor(poly.min(axis=0)).astype(int) - margin_px
+    x1, y1 = np.ceil(poly.max(axis=0)).astype(int) + margin_px
+    x0, x1 = max(0, x0), min(width, x1)
+    y0, y1 = max(0, y0), min(height, y1)
+    if x1 - x0 < 8 or y1 - y0 < 8:
+        return None
+    return int(x0), int(y0), int(x1), int(y1)

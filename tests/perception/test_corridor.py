@@ -1,0 +1,104 @@
+"""The pointing corridor: a small, faint, distant placard the main SIFT pass misses is found there."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import yaml
+
+from dip3d_vehicle.config import load_params
+from dip3d_vehicle.perception.corridor import corridor_polygon, merge_candidates
+from dip3d_vehicle.perception.filters import pose_rejection
+from dip3d_vehicle.perception.keypoints_file import GivenKeypoints
+from dip3d_vehicle.perception.pipeline import Perception
+from dip3d_vehicle.perception.values import ArmKeypoints, Candidates
+
+# A generated "far" scene (tests/perception/scene_families.py, seed 125): the pointed placard is
+# 0.22 m wide at 5.5 m (46 px) in attenuated, turbid, dim water.
+FAR_FAINT = """
+base: paper_pool
+track_line: null
+diver: {positions: [{name: g, range_m: 2.928, bearing_deg: -25.54, depth_m: 1.0}], target: 1}
+placards:
+  - {id: 1, range_m: 5.541, bearing_deg: 28.57, depth_m: 1.380, size_m: 0.216}
+  - {id: 2, range_m: 1.393, bearing_deg: 11.47, depth_m: 1.111, size_m: 0.220}
+  - {id: 3, range_m: 4.596, bearing_deg: 20.37, depth_m: 1.045, size_m: 0.278}
+  - {id: 4, range_m: 1.013, bearing_deg: 5.42, depth_m: 0.720, size_m: 0.247}
+pose_source: {noise_px: 0.0, dropout: 0.0}
+water: {ambient_light: 0.539, attenuation_per_m: [0.1516, 0.1814, 0.2553], light_falloff_per_m2: 0.0385,
+        turbidity_per_m: 0.0659}
+"""
+
+
+def _objects_on_target(perception, arm, cands, scene_meta, target_id, rig) -> int:
+    """Return how many selected objects' points lie on the pointed placard."""
+    import cv2
+    result = perception.decide(perception.check_arm(arm), cands)
+    poly = np.asarray(scene_meta["placards"][target_id]["left_polygon_px"], np.float32)
+    objs = result.selection.objects if result.selection else ()
+    pts = rig.to_original(np.array([o.left_px for o in objs]), "left") if objs else np.zeros((0, 2))
+    return sum(cv2.pointPolygonTest(poly, (float(x), float(y)), False) >= 0 for x, y in pts), result
+
+
+def test_corridor_finds_the_far_faint_placard_the_main_pass_misses(tmp_path):
+    """Without the corridor no candidate object lies on the placard; with it one does, and it is chosen."""
+    from sitl.render import StereoRenderer
+    from sitl.scenario import load_scenario
+    path = tmp_path / "far.yaml"
+    path.write_text(FAR_FAINT)
+    scenario = load_scenario(str(path), 0)
+    with StereoRenderer(scenario) as renderer:
+        frame = renderer.render(*scenario.initial_vehicle_pose, 2.0)
+    rig = scenario.rig()
+    left, right = rig.rectify(frame.left, frame.right)
+    pose = GivenKeypoints("right", frame.meta["keypoints_truth"])
+    perception = Perception(rig, load_params("default"), pose)
+    arm = pose.estimate(left, right, rig)
+    base = perception.detector.detect(left, right, arm, rig)
+    before, _ = _objects_on_target(perception, arm, base, frame.meta, scenario.target_id, rig)
+    assert before == 0
+    both = perception.add_corridor(left, right, arm, base)
+    assert len(both) > len(base)
+    after, result = _objects_on_target(perception, arm, both, frame.meta, scenario.target_id, rig)
+    assert after == 1
+    assert result.status == "ok"
+    poly = np.asarray(frame.meta["placards"][scenario.target_id]["left_polygon_px"], np.float32)
+    import cv2
+    px = rig.to_original(result.target_rect_px, "left")[0]
+    assert cv2.pointPolygonTest(poly, (float(px[0]), float(px[1])), False) >= 0
+    # every corridor match is on the same rectified row in both images
+    extra = perception.corridor.detect(left, right, arm, rig)
+    assert np.all(np.abs(extra.left_px[:, 1] - extra.right_px[:, 1]) <= 1.5)
+
+
+def test_corridor_polygon_starts_beyond_the_wrist_along_the_arm():
+    """The wedge opens from the wrist along shoulder->wrist; nothing behind the wrist is inside."""
+    import cv2
+    left = np.array([[100.0, 500.0], [300.0, 450.0], [500.0, 400.0]])
+    arm = ArmKeypoints("right", left, left - [30, 0], np.ones(3), np.ones(3))
+    poly = corridor_polygon(arm, 1600, 1200, 0.2, 40.0, 40.0).astype(np.float32)
+    u = (left[2] - left[0]) / np.linalg.norm(left[2] - left[0])
+    assert cv2.pointPolygonTest(poly, tuple(map(float, left[2] + 300 * u)), False) > 0
+    assert cv2.pointPolygonTest(poly, tuple(map(float, left[2] - 20 * u)), False) < 0
+    assert cv2.pointPolygonTest(poly, tuple(map(float, left[1])), False) < 0
+
+
+def test_merge_adds_only_new_points():
+    """A corridor match within 3 px of a main-pass match is not added twice."""
+    a = Candidates(np.array([[10.0, 10.0]]), np.array([[5.0, 10.0]]), np.zeros((1, 128), np.float32), np.zeros(1))
+    b = Candidates(np.array([[11.0, 10.0], [50.0, 10.0]]), np.array([[6.0, 10.0], [45.0, 10.0]]),
+                   np.zeros((2, 128), np.float32), np.zeros(2))
+    merged = merge_candidates(a, b)
+    assert len(merged) == 2 and merged.left_px[1] == pytest.approx([50.0, 10.0])
+
+
+def test_far_diver_pose_not_rejected_for_stereo_depth_noise():
+    """At 5 m a 0.9 m |dz| is stereo noise: the sigma-aware rule keeps it, the paper's fixed rule drops it."""
+    xyz = np.array([[0.0, 0.0, 5.0], [0.3, 0.0, 5.9], [0.58, 0.0, 5.2]])
+    sigma = np.array([0.6, 0.6, 0.6])
+    assert pose_rejection(xyz, 0.5) is not None
+    assert pose_rejection(xyz, 0.5, 0.0, sigma, 3.0) is None
+    assert pose_rejection(np.array([[0.0, 0, 2.0], [0.3, 0, 5.0], [0.6, 0, 2.0]]), 0.5, 0.0,
+                          np.array([0.05, 0.05, 0.05]), 3.0) is not None
+    assert load_params("paper")["filters.joint_dz_sigmas"] == 0.0
+    assert load_params("paper")["corridor.enabled"] is False
