@@ -41,6 +41,7 @@ import cv2
 import numpy as np
 
 from .config import load_params
+from .evaluation import decision_class
 from .frames import StereoFrame
 from .perception.calibration import StereoRig
 from .perception.keypoints_file import GivenKeypoints
@@ -52,7 +53,7 @@ from .worker import PerceptionWorker
 __all__ = ["BenchPose", "BenchFrames", "simulated_frames", "folder_frames", "run_profile", "run_bench",
            "latency_run", "format_table", "STAGES", "PAPER_STATIC_POSE"]
 
-STAGES = ("rectify", "pose", "candidates", "match", "triangulate", "select", "track")
+STAGES = ("rectify", "pose", "candidates", "match", "corridor", "triangulate", "select", "track")
 """Stages reported, in pipeline order (candidates = feature extraction, match = matching, track =
 following the chosen object between keyframes, ``PROFILE+followN`` only)."""
 
@@ -302,6 +303,7 @@ def run_profile(profile: str, data: BenchFrames, overrides: Mapping[str, Any] | 
             perception.counts = dict.fromkeys(perception.counts, 0)
     starts = set(data.sequences)
     wall, stages, sources, statuses, correct = [], {s: [] for s in STAGES}, [], {}, []
+    decisions: dict[str, int] = {}
     cpu0 = time.process_time()
     with _PeakMemory() as mem:
         for i, frame in enumerate(data.frames):
@@ -316,9 +318,12 @@ def run_profile(profile: str, data: BenchFrames, overrides: Mapping[str, Any] | 
                     stages[s].append(result.timings_ms[s])
             sources.append(pose.last_source)
             statuses[result.status] = statuses.get(result.status, 0) + 1
-            ok = frame_correct(result.to_json(data.rig), frame.meta)
+            doc = result.to_json(data.rig)
+            ok = frame_correct(doc, frame.meta)
             if ok is not None:
                 correct.append(ok)
+                kind = decision_class(doc, ok)
+                decisions[kind] = decisions.get(kind, 0) + 1
     cpu_ms = (time.process_time() - cpu0) * 1e3
     total_s = sum(wall) / 1e3
     p = _params_of(perception)
@@ -336,6 +341,7 @@ def run_profile(profile: str, data: BenchFrames, overrides: Mapping[str, Any] | 
         "accuracy": None if not correct else round(sum(correct) / len(correct), 4),
         "correct": int(sum(correct)), "scored_frames": len(correct),
         "status": statuses,
+        "decisions": decisions,
         "pose_source": dict(pose.counts),
         "pose_settings": {"tracking": p["blazepose.tracking"], "stereo_search": p["blazepose.stereo_search"],
                           "threads": p["blazepose.threads"]},
@@ -477,6 +483,9 @@ def format_table(report: Mapping[str, Any]) -> str:
         lines.append(f"{name:<16}{r['fps']:>8.2f}{_fmt(r['fps_ratio_to_paper']):>9}{_fmt(r['latency_ms']['p50']):>9}"
                      f"{_fmt(r['latency_ms']['p99']):>9}{_fmt(r['cpu_ms_per_frame']):>9}{r['peak_rss_mib']:>10.0f}"
                      f"{acc:>10}  {src}")
+    lines += ["", "decisions per scored frame (nothing_on_ray and abstentions apart from wrong picks)"]
+    for name, r in report["profiles"].items():
+        lines.append(f"{name:<16}" + ", ".join(f"{k} {v}" for k, v in sorted(r.get("decisions", {}).items())))
     lines += ["", "stage ms, median / p99"]
     lines.append(f"{'profile':<16}" + "".join(f"{s:>16}" for s in STAGES))
     for name, r in report["profiles"].items():

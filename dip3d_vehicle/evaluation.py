@@ -6,8 +6,9 @@ annotated point is nearest. The frame is *correct* when that object is the inten
 *pixel error* is the distance between the chosen point and the intended object's annotated point
 (the paper's 119.95 +- 43.05 px is the mean +- std of this over the correct frames; std here is
 the population std, numpy's default). A frame without a selection is a miss, counted by its
-status (``no_pose``, ``pose_rejected``, ``no_candidates``, ...); a selection on the wrong object
-is a miss counted as ``wrong_object``.
+status (``no_pose``, ``pose_rejected``, ``no_candidates``, ``nothing_on_ray``, ...); a selection
+on the wrong object is a miss counted as ``wrong_object``, or ``wrong_object_ambiguous`` when the
+selector flagged it ambiguous (the mission does not act on such a frame).
 
 ``format_table`` prints the paper's Table I layout: one row per diver position, one column per
 intended target, each cell ``mean +- std px (correct/frames)``, with totals.
@@ -26,11 +27,33 @@ import numpy as np
 from .dataset import Dataset, FrameAnnotation
 
 __all__ = [
-    "FrameOutcome", "Report", "assign_object", "frame_outcome", "evaluate_dataset", "format_table",
+    "decision_class", "CONFIDENT", "FrameOutcome", "Report", "assign_object", "frame_outcome", "evaluate_dataset", "format_table",
     "format_summary", "mean_std", "Progress", "pose_backend_for",
 ]
 
 NO_POSITION = "-"
+CONFIDENT = 0.8
+"""Confidence at or above which a wrong pick that is not flagged ambiguous is confidently wrong."""
+
+
+def decision_class(result: Mapping[str, Any], correct: bool) -> str:
+    """Return how a frame's decision went: correct, nothing_on_ray, abstained, wrong_confident, wrong_unsure.
+
+    ``result`` is the contract JSON; ``correct``: the chosen point lies on the intended object.
+    Abstentions (no pose, rejected pose, no candidates, flagged ambiguous) are kept apart from
+    wrong picks, and "nothing detected along the ray" apart from both.
+    """
+    if correct:
+        return "correct"
+    status = result.get("status")
+    if status == "nothing_on_ray":
+        return "nothing_on_ray"
+    sel = result.get("selection") or {}
+    if status != "ok" or result.get("target") is None or sel.get("ambiguous"):
+        return "abstained"
+    confidence = sel.get("confidence")
+    return "wrong_confident" if confidence is not None and confidence >= CONFIDENT else "wrong_unsure"
+
 
 
 @dataclass(frozen=True)
@@ -59,13 +82,16 @@ class FrameOutcome:
     error_px: float | None
     target_range_m: float | None = None
     diver_range_m: float | None = None
+    ambiguous: bool = False
 
     @property
     def miss_reason(self) -> str | None:
-        """None for a correct frame, else "wrong_object" or the perception status."""
+        """None for a correct frame, else "wrong_object" (or "wrong_object_ambiguous") or the status."""
         if self.correct:
             return None
-        return "wrong_object" if self.chosen is not None else self.status
+        if self.chosen is None:
+            return self.status
+        return "wrong_object_ambiguous" if self.ambiguous else "wrong_object"
 
 
 def assign_object(point_px: Sequence[float], ann: FrameAnnotation) -> str:
@@ -88,9 +114,10 @@ def frame_outcome(ann: FrameAnnotation, result: Mapping[str, Any]) -> FrameOutco
         chosen = assign_object(selected, ann)
         tx, ty = ann.target_px
         error = math.hypot(selected[0] - tx, selected[1] - ty)
+    sel = result.get("selection") or {}
     return FrameOutcome(ann.index, ann.target, ann.diver_position or NO_POSITION, str(result.get("status")),
                         chosen, chosen == ann.target, selected, error, ann.range_m.get(ann.target),
-                        ann.diver_range_m)
+                        ann.diver_range_m, bool(sel.get("ambiguous", False)))
 
 
 def mean_std(values: Iterable[float]) -> tuple[float, float, int]:

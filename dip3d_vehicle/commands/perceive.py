@@ -78,7 +78,8 @@ def run(args: argparse.Namespace) -> int:
     out["profile"] = params.profile
     if args.annotate:
         path = Path(args.annotate)
-        if not cv2.imwrite(str(path), annotate(left, result, rig, params["selection.extension_factor"])):
+        corridor = perception.corridor.last_polygon if perception.corridor is not None else None
+        if not cv2.imwrite(str(path), annotate(left, result, rig, params["selection.extension_factor"], corridor)):
             raise ImageError(f"{path}: cannot write the annotated image")
     if args.json:
         print(json.dumps(out))
@@ -95,6 +96,6 @@ def _print_summary(out: dict) -> None:
         sel = out["selection"]
         print(f"target: left_px {target['left_px']}  xyz_m {target['xyz_m']}  "
               f"({sel['method']}, confidence {sel['confidence']}, margin {sel['ambiguity_margin']}"
-              f"{', AMBIGUOUS' if sel['ambiguous'] else ''})")
+              f"{', AMBIGUOUS' if sel['ambiguous'] else ''}, nothing detected {sel['none_probability']})")
     print(f"candidates: {len(out['candidates'])} from {out['features']} matched features")
     print("timings_ms: " + ", ".join(f"{k} {v}" for k, v in out["timings_ms"].items()))

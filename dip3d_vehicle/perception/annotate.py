@@ -11,6 +11,7 @@ from .pipeline import PerceptionResult
 __all__ = ["annotate"]
 
 GREEN, WHITE, RED, YELLOW, CYAN = (0, 255, 0), (255, 255, 255), (0, 0, 255), (0, 255, 255), (255, 255, 0)
+MAGENTA, ORANGE = (255, 0, 255), (0, 165, 255)
 
 
 def _project(rig: StereoRig, xyz_m: np.ndarray) -> np.ndarray:
@@ -24,15 +25,29 @@ def _pt(p) -> tuple[int, int]:
     return int(round(float(p[0]))), int(round(float(p[1])))
 
 
-def annotate(left: np.ndarray, result: PerceptionResult, rig: StereoRig, extension: float = 3.0) -> np.ndarray:
+def _corridor(img: np.ndarray, polygon_rect_px: np.ndarray, rig: StereoRig, scale: int) -> None:
+    """Outline the pointing corridor (a rectified-pixel polygon), its edges mapped to original pixels."""
+    pts = []
+    for a, b in zip(polygon_rect_px, np.roll(polygon_rect_px, -1, axis=0)):
+        pts.extend(a + (b - a) * t for t in np.linspace(0.0, 1.0, 24, endpoint=False))
+    orig = rig.to_original(np.array(pts), "left")
+    cv2.polylines(img, [np.round(orig).astype(np.int32)], True, MAGENTA, scale)
+
+
+def annotate(left: np.ndarray, result: PerceptionResult, rig: StereoRig, extension: float = 3.0,
+             corridor_rect_px: np.ndarray | None = None) -> np.ndarray:
     """Return a copy of the ORIGINAL left image with the perception result drawn on it.
 
-    Green: the pointing vector (wrist + 0..extension x forearm, projected); white: all candidates
-    (objects for the default selector, matched features for the paper's); red: the chosen target;
-    yellow/cyan: shoulder, elbow, wrist and the arm.
+    Green: the pointing vector (wrist + 0..extension x forearm, projected); magenta: the pointing
+    corridor searched for small, faint objects (when given); white: all candidates (objects for
+    the default selector, each with its absolute probability; matched features for the paper's);
+    red: the chosen target; orange: "nothing detected along the ray" when that won; yellow/cyan:
+    shoulder, elbow, wrist and the arm.
     """
     img = left.copy()
     scale = max(1, img.shape[1] // 800)
+    if corridor_rect_px is not None:
+        _corridor(img, corridor_rect_px, rig, scale)
     if result.arm is not None:
         joints = rig.to_original(result.arm.left_px, "left")
         cv2.polylines(img, [np.round(joints).astype(np.int32)], False, CYAN, 2 * scale)
@@ -46,12 +61,20 @@ def annotate(left: np.ndarray, result: PerceptionResult, rig: StereoRig, extensi
             cv2.polylines(img, [np.round(_project(rig, line)).astype(np.int32)], False, GREEN, 2 * scale)
     sel = result.selection
     if sel is not None:
-        for obj in sel.objects:
-            cv2.circle(img, _pt(rig.to_original(obj.left_px, "left")[0]), 4 * scale, WHITE, -1)
+        font = cv2.FONT_HERSHEY_SIMPLEX
+        for i, obj in enumerate(sel.objects):
+            p = _pt(rig.to_original(obj.left_px, "left")[0])
+            cv2.circle(img, p, 4 * scale, WHITE, -1)
+            if sel.method == "default":
+                cv2.putText(img, f"{sel.scores[i]:.2f}", (p[0] + 8 * scale, p[1] + 18 * scale), font, 0.45 * scale,
+                            WHITE, scale)
+        if sel.nothing_on_ray:
+            text = f"nothing detected along the ray (P {sel.none_probability:.2f})"
+            cv2.putText(img, text, (10 * scale, 62 * scale), font, 0.8 * scale, ORANGE, 2 * scale)
         if sel.target is not None:
             p = _pt(rig.to_original(sel.target.left_px, "left")[0])
             cv2.circle(img, p, 14 * scale, RED, 3 * scale)
-            label = f"{sel.method} conf {sel.confidence:.2f}"
+            label = f"{sel.method} P {sel.confidence:.2f}" if sel.method == "default" else f"{sel.method} conf 1.00"
             cv2.putText(img, label, (p[0] + 16 * scale, p[1]), cv2.FONT_HERSHEY_SIMPLEX, 0.6 * scale, RED, 2 * scale)
     cv2.putText(img, f"status: {result.status}", (10 * scale, 30 * scale), cv2.FONT_HERSHEY_SIMPLEX,
                 0.8 * scale, WHITE, 2 * scale)

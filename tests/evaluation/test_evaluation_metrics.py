@@ -132,3 +132,19 @@ def test_dataset_missing_files(tmp_path):
     assert ds.frames[0].target == "2" and ds.label("1") == "a" and ds.label("2") == "2"
     with pytest.raises(DatasetError, match="no stereo pairs found"):
         list(ds.pairs())
+
+
+def test_decision_class_keeps_nothing_on_ray_and_abstentions_apart_from_wrong_picks():
+    """nothing_on_ray, ambiguous and rejected frames are not wrong picks; confident wrong is split out."""
+    from dip3d_vehicle.evaluation import decision_class
+    target = {"left_px": [1.0, 2.0]}
+    assert decision_class({"status": "ok", "target": target, "selection": {"confidence": 0.9}}, True) == "correct"
+    assert decision_class({"status": "nothing_on_ray", "target": None,
+                           "selection": {"confidence": 0.9, "none_probability": 0.9}}, False) == "nothing_on_ray"
+    assert decision_class({"status": "pose_rejected", "target": None, "selection": None}, False) == "abstained"
+    assert decision_class({"status": "ok", "target": target,
+                           "selection": {"confidence": 0.5, "ambiguous": True}}, False) == "abstained"
+    assert decision_class({"status": "ok", "target": target,
+                           "selection": {"confidence": 0.95, "ambiguous": False}}, False) == "wrong_confident"
+    assert decision_class({"status": "ok", "target": target,
+                           "selection": {"confidence": 0.7, "ambiguous": False}}, False) == "wrong_unsure"

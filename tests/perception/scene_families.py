@@ -284,3 +284,61 @@ class Tally:
 def rate(counts: dict, what: str) -> float:
     """Return the fraction of draws with outcome ``what``."""
     return counts[what] / max(sum(counts.values()), 1)
+
+
+def tally_family(tmp: Path, family: str, n_scenes: int, draws: int, seed0: int, noise_px=(0.0, 1.0, 2.0, 4.0),
+                 profiles=("paper", "default"), tally: Tally | None = None) -> Tally:
+    """Run both selectors over generated scenes of one family; return the outcome and recall tally.
+
+    The main candidate pass runs once per scene and profile (it does not depend on keypoint
+    noise); the pointing corridor, which does, runs on every noisy draw. Recall counts the
+    scenes whose pointed placard is detectable: some candidate (an object for ``default``, a
+    feature for ``paper``) lies on it, with the truth keypoints.
+    """
+    from dip3d_vehicle.config import load_params
+    from dip3d_vehicle.perception.keypoints_file import GivenKeypoints
+    from dip3d_vehicle.perception.pipeline import Perception
+    tally = tally or Tally()
+    for k, scene in enumerate(scenes(tmp, family, n_scenes, seed0)):
+        truth = scene.frame.meta["keypoints_truth"]
+        rig = scene.scenario.rig()
+        left, right = rig.rectify(scene.frame.left, scene.frame.right)
+        for profile in profiles:
+            pose = GivenKeypoints("right", truth)
+            perception = Perception(rig, load_params(profile), pose)
+            arm = pose.estimate(left, right, rig)
+            base = perception.detector.detect(left, right, arm, rig)
+            if scene.detectable:
+                clean = perception.decide(perception.check_arm(arm), perception.add_corridor(left, right, arm, base))
+                objs = clean.selection.objects if clean.selection else ()
+                px = rig.to_original(np.array([o.left_px for o in objs]), "left") if objs else np.zeros((0, 2))
+                tally.add_recall((profile, family, scene.band), target_detected(scene, px))
+            rng = np.random.default_rng(seed0 + k)
+            for sigma in noise_px:
+                for _ in range(draws if sigma > 0 else 1):
+                    pose.provide(noisy(truth, sigma, rng))
+                    checked = perception.check_arm(pose.estimate(left, right, rig))
+                    result = checked
+                    if checked.status == "ok":
+                        result = perception.decide(checked, perception.add_corridor(left, right, checked.arm, base))
+                    tally.add((profile, family, scene.band, sigma), outcome(scene, result, rig))
+    return tally
+
+
+def report(tally: Tally, noise_px=(0.0, 1.0, 2.0, 4.0), families=FAMILIES) -> str:
+    """Return the tables: per family and band, per noise level, both profiles; then the headline."""
+    lines = []
+    for profile in ("paper", "default"):
+        lines.append(f"\n{profile}: correct / abstained / confidently wrong / wrong (unsure), % of draws; recall")
+        for family in families:
+            for band in ("1-3 m", "3-6 m"):
+                cells = []
+                for sigma in noise_px:
+                    c = tally.merged(profile, sigma, (family,), (band,))
+                    if sum(c.values()):
+                        cells.append(f"{sigma:.0f}px {rate(c, 'correct'):4.0%}/{rate(c, 'abstained'):4.0%}/"
+                                     f"{rate(c, 'confident_wrong'):4.0%}/{rate(c, 'wrong'):4.0%}")
+                hit, total = tally.merged_recall(profile, (family,), (band,))
+                if cells:
+                    lines.append(f"  {family:14s} {band}  " + "  ".join(cells) + (f"  recall {hit}/{total}" if total else ""))
+    return "\n".join(lines)
