@@ -38,6 +38,11 @@ __all__ = ["PointingSelector", "PaperSelector", "DefaultSelector", "OpenSet", "i
 SHAPE_POINTS = 12
 """Points per object used to test whether the pointing ray passes through it."""
 
+MAX_TILT_SIGMA_RAD = 0.25
+"""Cap on the arm's tilt uncertainty (toward / away from the camera), radians: the anthropometric
+limb lengths bound the tilt of an arm seen at its full image length to about +-25 deg, whose
+standard deviation is 0.25 rad, however noisy the stereo depths of the joints."""
+
 MATCH_SIGMA_PX = 0.3
 """Assumed disparity error of a matched feature, pixels (SIFT on Middlebury: median error 0.1-0.3 px)."""
 
@@ -333,7 +338,7 @@ class OpenSet:
         gate_min_rad: the image gate is never narrower than this, radians.
     """
 
-    none_prior: float = 0.2
+    none_prior: float = 0.25
     none_solid_angle_sr: float = 1.0
     gate_sigmas: float = 4.0
     gate_min_rad: float = 0.26
@@ -437,7 +442,7 @@ class DefaultSelector(PointingSelector):
         m, o = self.model, self.open_set
         shoulder, wrist = arm3d.joint("shoulder"), arm3d.joint("wrist")
         length_m = max(float(np.linalg.norm(wrist - shoulder)), 0.1)
-        tilt = min(float(np.hypot(arm3d.depth_sigma_m[0], arm3d.depth_sigma_m[2])) / length_m, 0.5)
+        tilt = min(float(np.hypot(arm3d.depth_sigma_m[0], arm3d.depth_sigma_m[2])) / length_m, MAX_TILT_SIGMA_RAD)
         length_px = max(float(np.linalg.norm(arm.joint("wrist") - arm.joint("shoulder"))), 1.0)
         across = math.sqrt(2.0) * m.keypoint_sigma_px / length_px
         dist = np.array([float(np.linalg.norm(obj.xyz_m - shoulder)) for obj in objects])

@@ -13,7 +13,7 @@ small rotation between the cameras, 1600x1200. Families:
 - ``far_diver``: the diver at 4-6 m, the placards at 1-6 m.
 
 Outcomes per draw: ``correct`` (the chosen point inside the pointed placard; for ``undetectable``,
-the status ``nothing_on_ray``), ``abstained`` (``nothing_on_ray``, flagged ambiguous, pose rejected
+also the status ``nothing_on_ray``: its few pixels are sometimes matched after all), ``abstained`` (``nothing_on_ray``, flagged ambiguous, pose rejected
 or no decision), ``confident_wrong`` (another object with confidence >= 0.8, not flagged
 ambiguous) and ``wrong`` (another object, unsure).
 """
@@ -227,10 +227,9 @@ def noisy(keypoints: dict, sigma_px: float, rng: np.random.Generator) -> dict:
 
 def outcome(scene: Scene, result, rig) -> str:
     """Return the outcome of one perception result on a scene (see OUTCOMES)."""
-    if scene.family == "undetectable":
-        if result.status == "nothing_on_ray":
-            return "correct"
-    elif result.status == "ok" and result.target_rect_px is not None:
+    if scene.family == "undetectable" and result.status == "nothing_on_ray":
+        return "correct"
+    if result.status == "ok" and result.target_rect_px is not None:
         px = rig.to_original(result.target_rect_px, "left")[0]
         if cv2.pointPolygonTest(scene.target_polygon, (float(px[0]), float(px[1])), False) >= 0:
             return "correct"

@@ -13,7 +13,9 @@ Scenes where another placard lies as near the arm's line as the target (a 5 deg 
 between two placards: the "intended" one is then a coin toss for any method) are kept in the main
 table; the script prints a second table over the scenes with a clear margin (``CLEAR_DEG``).
 
-Run as a script for the full table: ``python tests/perception/test_synthetic_accuracy.py [N]``.
+Run as a script for the full table: ``python tests/perception/test_synthetic_accuracy.py [N]``; the
+open-set families (far, faint, undetectable, elbow clutter, far diver; ``scene_families.py``):
+``python tests/perception/test_synthetic_accuracy.py N families [SEED0]``.
 """
 
 from __future__ import annotations
@@ -206,9 +208,50 @@ def test_default_beats_paper_at_every_noise_level(tmp_path):
     assert acc["default"][2.0] >= 0.85, acc
 
 
+def test_open_set_families_never_confidently_wrong(tmp_path):
+    """Far, faint, undetectable and elbow-clutter scenes at 2 px: no confident wrong pick, targets found.
+
+    A few scenes per family (the script runs the full set): every detectable pointed placard has
+    a candidate object on it, most far targets are chosen, and where the pointed object cannot be
+    detected the selector never picks another object with confidence.
+    """
+    import scene_families as sf
+    tally = sf.Tally()
+    for family in ("far", "undetectable", "elbow"):
+        sf.tally_family(tmp_path, family, 3, 2, seed0=0, noise_px=(2.0,), profiles=("default",), tally=tally)
+    print(sf.report(tally, noise_px=(2.0,), families=("far", "undetectable", "elbow")))
+    hit, total = tally.merged_recall("default", ("far", "elbow"))
+    assert total == 6 and hit == total
+    everything = tally.merged("default", 2.0)
+    assert everything["confident_wrong"] == 0, everything
+    far = tally.merged("default", 2.0, ("far", "elbow"))
+    assert far["correct"] >= 0.6 * sum(far.values()), far
+    undetectable = tally.merged("default", 2.0, ("undetectable",))
+    assert undetectable["correct"] >= sum(undetectable.values()) / 3, undetectable  # ~60 % over 40 scenes
+
+
 if __name__ == "__main__":  # pragma: no cover - the full table for the closing note
     import tempfile
     n = int(sys.argv[1]) if len(sys.argv) > 1 else 40
+    if len(sys.argv) > 2 and sys.argv[2] == "families":  # the open-set families (scene_families.py)
+        import scene_families as sf
+        seed0 = int(sys.argv[3]) if len(sys.argv) > 3 else 500
+        everything = sf.Tally()
+        with tempfile.TemporaryDirectory() as tmp:
+            for family in sf.FAMILIES:
+                sf.tally_family(Path(tmp), family, n, 8, seed0, tally=everything)
+        print(sf.report(everything))
+        for profile in ("paper", "default"):
+            for sigma in NOISE_PX:
+                det = everything.merged(profile, sigma, ("line_of_sight", "far", "elbow", "far_diver"))
+                und = everything.merged(profile, sigma, ("undetectable",))
+                allc = everything.merged(profile, sigma)
+                print(f"{profile} {sigma:.0f}px: detectable correct {sf.rate(det, 'correct'):.1%}, abstained "
+                      f"{sf.rate(det, 'abstained'):.1%}; undetectable nothing_on_ray/correct {sf.rate(und, 'correct'):.1%}; "
+                      f"confidently wrong {sf.rate(allc, 'confident_wrong'):.2%} of all draws")
+            hit, total = everything.merged_recall(profile)
+            print(f"{profile} detection recall {hit}/{total}")
+        sys.exit(0)
     with tempfile.TemporaryDirectory() as tmp:
         for near in (True, False):
             per_scene = list(scene_counts(Path(tmp), n, near, draws=8, seed0=1000 if near else 5000))
