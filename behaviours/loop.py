@@ -305,6 +305,8 @@ def observation_summary(obs: Observation | None) -> dict:
     if obs.result is not None:
         r = obs.result
         out["status"] = r.status
+        if r.selection is not None and r.selection.none_probability > 0.0:
+            out["none_probability"] = round(float(r.selection.none_probability), 3)
         if r.selection is not None and r.selection.target is not None:
             out["selection"] = {"xyz_m": [round(float(v), 3) for v in r.selection.target.xyz_m],
                                 "confidence": round(float(r.selection.confidence), 3),
