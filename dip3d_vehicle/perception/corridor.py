@@ -78,7 +78,8 @@ class CorridorDetector:
         self.image_scale, self.lowe_ratio = image_scale, lowe_ratio
         self.row_tolerance_px, self.min_disparity_px, self.min_depth_m = row_tolerance_px, min_disparity_px, min_depth_m
         self.max_area_px, self.tiles = max_area_px, tiles
-        self._clahe = cv2.createCLAHE(clipLimit=clahe_clip, tileGridSize=(8, 8))
+        # one CLAHE and one SIFT per image: the two images are scanned concurrently (neither is thread-safe)
+        self._clahes = tuple(cv2.createCLAHE(clipLimit=clahe_clip, tileGridSize=(8, 8)) for _ in range(2))
         self._sifts = tuple(cv2.SIFT_create(contrastThreshold=contrast_threshold) for _ in range(2))
         self.last_polygon: np.ndarray | None = None
         self.last_timings_ms: dict[str, float] = {}
@@ -152,7 +153,7 @@ class CorridorDetector:
                 mask = cv2.resize(mask, (gray.shape[1], gray.shape[0]), interpolation=cv2.INTER_NEAREST)
         if min(gray.shape[:2]) < 16:
             return np.zeros((0, 2)), np.zeros((0, 128), np.float32)
-        kps, desc = self._sifts[which].detectAndCompute(self._clahe.apply(gray), mask)
+        kps, desc = self._sifts[which].detectAndCompute(self._clahes[which].apply(gray), mask)
         if not kps:
             return np.zeros((0, 2)), np.zeros((0, 128), np.float32)
         pts = np.array([k.pt for k in kps], np.float64)
