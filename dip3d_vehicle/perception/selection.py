@@ -338,7 +338,7 @@ class OpenSet:
         gate_min_rad: the image gate is never narrower than this, radians.
     """
 
-    none_prior: float = 0.25
+    none_prior: float = 0.3
     none_solid_angle_sr: float = 1.0
     gate_sigmas: float = 4.0
     gate_min_rad: float = 0.26
@@ -419,7 +419,9 @@ class DefaultSelector(PointingSelector):
         best = int(order[0])
         ranked = sorted([*log_odds.tolist(), 0.0], reverse=True)
         margin = (ranked[0] - ranked[1]) if len(ranked) > 1 else math.inf
-        if p_none >= post[best]:
+        # "nothing detected" is the answer when it is the confident winner (or no object is allowed);
+        # when it merely leads, the best object is returned flagged ambiguous: no decision either way
+        if not np.isfinite(log_odds[best]) or (p_none >= post[best] and p_none >= self.min_confidence):
             why = (f"the arm points at nothing detected (P {p_none:.2f}); best object P {post[best]:.2f}"
                    if np.isfinite(log_odds[best]) else
                    f"the arm points at nothing detected: every object lies outside the arm's direction in the image")

@@ -89,9 +89,9 @@ def test_default_picks_object_ahead_where_paper_picks_distractor_behind():
     assert np.all(labels[members] == 0)
     # confidence is absolute (the "nothing detected" hypothesis holds the rest): high, and the
     # target takes > 95 % of what the two objects share
-    assert default.confidence > 0.9 and not default.ambiguous
+    assert default.confidence > 0.85 and not default.ambiguous
     assert default.confidence / float(np.sum(default.scores)) > 0.95
-    assert default.none_probability < 0.1
+    assert default.none_probability < 0.15
     assert p_paper["selection.method"] == "paper"
 
 
