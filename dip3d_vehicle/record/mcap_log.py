@@ -88,6 +88,7 @@ class McapRunWriter:
         self._images_calls = 0
         self.records_written = 0
         self.counts: dict[str, int] = {}
+        self.mirror: Any = None  # called as mirror(topic, data, log_time_ns) after each write (live server)
         self._pending = 0
         self._last_flush = self._last_sync = time.monotonic()
         self.set_clock(clock)
@@ -135,6 +136,8 @@ class McapRunWriter:
                     self.flush()
             except OSError as exc:
                 raise LogError(f"{self.path}: cannot write run record ({exc.strerror})") from None
+        if self.mirror is not None:
+            self.mirror(name, data, t)
 
     def publish_json(self, name: str, obj: Any, log_time_ns: int | None = None) -> None:
         """Write one JSON message on topic ``name``."""
