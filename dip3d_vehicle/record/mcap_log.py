@@ -452,16 +452,17 @@ class McapRunReader:
         Raises:
             LogError: an intact image message cannot be decoded.
         """
-        parts: dict[int, dict[str, Any]] = {}
+        last: dict[str, Message] = {}
         wanted = ("/camera/left/image", "/camera/right/image", "/dip3d/kept")
-        for msg in self.messages(wanted):
-            slot = parts.setdefault(msg.log_time_ns, {})
-            slot[msg.topic] = msg
-            if len(slot) == 3:
-                del parts[msg.log_time_ns]
-                index = int(slot["/dip3d/kept"].json()["frame_index"])
-                images = [self._image(slot[f"/camera/{side}/image"]) for side in ("left", "right")]
-                yield index, images[0], images[1]
+        for msg in self.messages(wanted):  # one images() call writes left, right, kept in this order
+            if msg.topic != "/dip3d/kept":
+                last[msg.topic] = msg
+                continue
+            left, right = last.pop("/camera/left/image", None), last.pop("/camera/right/image", None)
+            if left is None or right is None or not left.log_time_ns == right.log_time_ns == msg.log_time_ns:
+                continue
+            index = int(msg.json()["frame_index"])
+            yield index, self._image(left), self._image(right)
 
     def _image(self, msg: Message) -> np.ndarray:
         data = self.decode(msg).data

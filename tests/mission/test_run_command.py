@@ -60,4 +60,4 @@ def test_run_loop_processes_a_folder_and_talks_to_the_autopilot(tmp_path, capsys
     assert topics["/dip3d/frame"] >= 1 and topics["/autopilot/status"] >= 1 and topics["/story"] >= 1
     tlog = mavutil.mavlink_connection(str(tmp_path / "out" / "mav.tlog"))
     kinds = Counter(iter(lambda: (m := tlog.recv_match()) and m.get_type(), None))
-    assert kinds["HEARTBEAT"] >= 4 and kinds["ATTITUDE"] >= 1
+    assert kinds["HEARTBEAT"] >= 2 and kinds["ATTITUDE"] >= 1  # ours and the autopilot's
