@@ -81,6 +81,7 @@ def run(args: argparse.Namespace) -> int:
             result = sim.run()
         finally:
             sim.close()
+        log.story(sim.link.events + sim.mission.bb.story)  # the lines of the link's close
         log.event(f"t={result.sim_time_s:.2f} outcome: arrived={result.arrived} chosen={result.chosen_id} "
                   f"target={result.target_id}")
     finally:
