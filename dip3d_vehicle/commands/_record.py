@@ -55,7 +55,8 @@ def open_recorder(args: argparse.Namespace, mcap_path: Path, params: Mapping[str
             host, port = parse_address(args.foxglove, "--foxglove")
             live = FoxgloveLive(host, port, name=f"dip3d-vehicle {command}")
             lines.append(f"{command}: Foxglove WebSocket at {live.url}")
-        video = mcap_path.parent / VIDEO_NAME if getattr(args, "video", False) else None
+        wants_video = getattr(args, "video", False) or bool(params.get("runlog.annotated_video", False))
+        video = mcap_path.parent / VIDEO_NAME if wants_video else None
         recorder = RunRecorder(mcap_path, params, meta, rig=rig, tlog_path=mcap_path.parent / TLOG_NAME,
                                video_path=video, view=view, foxglove=live, **writer_options)
     except BaseException:

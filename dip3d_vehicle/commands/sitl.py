@@ -67,6 +67,8 @@ def run(args: argparse.Namespace) -> int:
     keep = params["runlog.keep_images_every"]
     if params.source("runlog.keep_images_every") == "schema default":
         keep = 10  # a 1600x1200 pair per frame would dominate the run time; every 10th frame
+    if params.source("runlog.video_fps") == "schema default":  # one video frame per camera frame
+        params = params.with_overrides({"runlog.video_fps": params["sitl.camera_rate_hz"]}, "sitl")
     meta = {"command": "sitl", "scenario": scenario.name, "seed": args.seed, "calib_opencv_yaml": calib_text,
             "image_size": list(scenario.camera.image_size), "target_id": scenario.target_id}
     log, lines = open_recorder(args, out / "run.mcap", params, meta, command="sitl", keep_images_every=keep,

@@ -74,6 +74,7 @@ class RunRecorder:
         self._story_done = 0
         self._autopilot: tuple[int, int] | None = None
         self.last_overlay: dict | None = None
+        self._chosen: tuple | None = None  # (probability, method, time) of the last full-perception choice
         self.counts = {"overlays": 0, "video_frames": 0, "operator_requests_applied": 0}
 
     # -- the old run log's interface (Simulation, run, fault_campaign call these) --------------
@@ -159,11 +160,16 @@ class RunRecorder:
         ov = overlay_of(obs.result, self.rig, mission.state, tracked, box)
         if obs.track is not None:
             ov["features"] = len(obs.track.candidates)
-        self.last_overlay = ov
         t = self.mcap.stamp_ns(obs.stamp_s)
         self.mcap.publish("/camera/left/annotations", image_annotations(ov, t), t)
         self.mcap.publish("/scene", scene_update(ov, t), t)
         self.counts["overlays"] += 1
+        if ov["target"] is not None:
+            self._chosen = (ov["target"].get("p"), ov["target"].get("method"), now_s)
+        elif ov["tracked_px"] is not None and self._chosen is not None:  # view and video: the tracked target
+            p, method, chosen_at = self._chosen
+            ov = dict(ov, target={"px": ov["tracked_px"], "p": p, "method": f"{method}, tracked since t={chosen_at:.1f}"})
+        self.last_overlay = ov
         with self._lock:
             image = self._images.get(int(obs.index))
         if image is None:
