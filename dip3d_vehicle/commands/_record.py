@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import sys
 from pathlib import Path
 from typing import Any, Mapping
 
@@ -28,7 +29,7 @@ def add_record_arguments(parser: argparse.ArgumentParser) -> None:
 
 def open_recorder(args: argparse.Namespace, mcap_path: Path, params: Mapping[str, Any], meta: Mapping[str, Any],
                   rig: Any = None, command: str = "run", **writer_options: Any):
-    """Return (RunRecorder, lines to print) for ``mcap_path`` with ``mav.tlog`` beside it.
+    """Return (RunRecorder, lines to print on stderr) for ``mcap_path`` with ``mav.tlog`` beside it.
 
     Raises:
         Dip3dError: a bad address, token file or an unusable output file.
@@ -69,9 +70,12 @@ def open_recorder(args: argparse.Namespace, mcap_path: Path, params: Mapping[str
 
 
 def close_recorder(recorder: Any) -> None:
-    """Close the recorder and stop its servers."""
+    """Close the recorder and stop its servers (the live view prints its operator-request counts)."""
     try:
         recorder.close()
     finally:
         for server in getattr(recorder, "servers", []):
             server.close()
+            if hasattr(server, "refused_reasons"):
+                print(f"live view: {server.counts['accepted']} operator requests accepted, {server.counts['refused']} "
+                      f"refused {server.refused_reasons or ''}".rstrip(), file=sys.stderr, flush=True)

@@ -12,6 +12,7 @@ with ``--enable`` (``link.auto_enable``). Ctrl-C stops: the link sends the stop 
 from __future__ import annotations
 
 import argparse
+import sys
 import itertools
 import time
 from pathlib import Path
@@ -86,7 +87,7 @@ def run(args: argparse.Namespace) -> int:
         log, lines = open_recorder(args, path, params, {"command": "run", "camera": args.camera, "calib": args.calib,
                                                         "image_size": list(size)}, rig, "run", clock=clock)
         for line in lines:
-            print(line, flush=True)
+            print(line, file=sys.stderr, flush=True)
     elif args.view or args.foxglove or args.video:
         raise Dip3dError("--view / --foxglove / --video: need --out DIR (or --log FILE)")
     link = VehicleLink(params, clock, recorder=log)

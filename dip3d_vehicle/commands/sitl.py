@@ -11,6 +11,7 @@ Exit code 0 whether or not the vehicle arrived; 2 on bad input.
 from __future__ import annotations
 
 import argparse
+import sys
 import json
 import math
 import tempfile
@@ -75,7 +76,7 @@ def run(args: argparse.Namespace) -> int:
                                overwrite=True)
     try:
         for line in lines:
-            print(line, flush=True)
+            print(line, file=sys.stderr, flush=True)
         sim = make_simulation(scenario, params, args.faults, args.seed, speed=args.speed, log=log)
         log.rig = sim.rig
         log.attach_link(sim.link)

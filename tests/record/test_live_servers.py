@@ -137,3 +137,12 @@ def test_addresses_and_tokens(tmp_path):
     assert load_token(str(tmp_path / "ok"))[0] == "a-long-enough-operator-token"
     with pytest.raises(Dip3dError, match="cannot read"):
         load_token(str(tmp_path / "missing"))
+
+
+def test_command_line_errors(tmp_path, capsys):
+    from dip3d_vehicle.cli import main
+
+    assert main(["sitl", "--out", str(tmp_path), "--view-token", "auto"]) == 2
+    assert "--view-token: needs --view HOST:PORT" in capsys.readouterr().err
+    assert main(["sitl", "--out", str(tmp_path), "--view", "host:"]) == 2
+    assert "--view 'host:': expected HOST:PORT" in capsys.readouterr().err
