@@ -13,7 +13,7 @@ import json
 from dataclasses import dataclass
 from typing import Any
 
-__all__ = ["Topic", "TOPICS", "topic", "encode_json"]
+__all__ = ["Topic", "topic", "all_topics", "encode_json"]
 
 
 @dataclass(frozen=True)
@@ -97,11 +97,10 @@ def topic(name: str) -> Topic:
     return _TOPICS[name]
 
 
-def __getattr__(name: str) -> Any:
-    if name == "TOPICS":
-        topic("/story")
-        return dict(_TOPICS)
-    raise AttributeError(name)
+def all_topics() -> dict[str, Topic]:
+    """Return every topic of the run record by name."""
+    topic("/story")
+    return dict(_TOPICS or {})
 
 
 def encode_json(obj: Any) -> bytes:

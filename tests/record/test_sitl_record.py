@@ -74,10 +74,9 @@ def test_the_mcap_package_reads_every_channel_with_the_expected_counts(mission):
         assert schemas[name] == schema, name
         assert counts[name] > 0, name
     frames = sim.controller.observations  # processed and delivered before the run ended
-    rendered = sim.renderer.frames_rendered if hasattr(sim.renderer, "frames_rendered") else None
     captured = math.floor(result.sim_time_s * float(sim.params["sitl.camera_rate_hz"]) + 1e-6)
     assert counts["/camera/left/image"] == counts["/camera/right/image"] == counts["/dip3d/kept"]
-    assert counts["/dip3d/kept"] == math.ceil(captured / KEEP), (captured, rendered)
+    assert counts["/dip3d/kept"] == math.ceil(captured / KEEP), captured
     assert counts["/dip3d/frame"] == counts["/camera/left/annotations"] == counts["/scene"] == frames
     assert counts["/mission/state"] == counts["/mission/log"] == len(result.states)
     assert abs(counts["/servo"] - result.sim_time_s * 10) <= 2  # 10 Hz
@@ -139,7 +138,7 @@ def test_tlog_counts_both_ways(mission):
     print(f"controller received (tlog writer): {dict(sorted(written_in.items()))}")
     assert read == total
     assert dict(written_sent) == {k: v for k, v in sim.link.stats.sent.items() if v}
-    assert sum(written_in.values()) == sim.link.stats.received + sim.link.stats.bad_data * 0
+    assert sum(written_in.values()) == sim.link.stats.received  # no BAD_DATA on a clean link
     got_by_autopilot = sum(1 for r in sim.received if r.kind == "MANUAL_CONTROL")
     assert written_sent.get("MANUAL_CONTROL", 0) == got_by_autopilot
     assert recorder.tlog.write_errors == 0
