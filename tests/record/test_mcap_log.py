@@ -223,3 +223,21 @@ def test_killed_writer_loses_at_most_flush_every_s(tmp_path, trial):
     print(f"\nkill {trial}: {len(logged)} frames logged, {len(indices)} in the file, {len(lost)} lost, "
           f"oldest lost {lost_age:.3f} s before the kill")
     assert lost_age <= 1.0
+
+
+def test_a_run_record_is_a_stereo_source(tmp_path):
+    """``record:RUN.mcap`` (or the bare path) yields the kept pairs, e.g. as a dataset's ``source``."""
+    from dip3d_vehicle.errors import SourceError
+    from dip3d_vehicle.sources import open_source, parse_spec
+
+    write_record(tmp_path / "run.mcap", every=3)
+    assert parse_spec(str(tmp_path / "run.mcap"))[0] == "record"
+    (tmp_path / "other.mcap").write_bytes(b"\x89MCAP0\r\n")  # an MCAP that is not ours: a ROS 2 bag
+    assert parse_spec(str(tmp_path / "other.mcap"))[0] == "bag"
+    for spec in (f"record:{tmp_path / 'run.mcap'}", str(tmp_path / "run.mcap")):
+        with open_source(spec) as source:
+            frames = list(source)
+        assert [f.meta["frame_index"] for f in frames] == [0, 3, 6, 9]
+        assert np.array_equal(frames[1].left, _images(3)[0]) and frames[1].index == 1
+    with pytest.raises(SourceError, match="not found"):
+        open_source(f"record:{tmp_path / 'missing.mcap'}")
