@@ -1,7 +1,7 @@
 """The run record's channels: one table of topics, each with its schema (Foxglove's where one fits).
 
 Foxglove's well-known schemas (``foxglove.CompressedImage``, ``foxglove.ImageAnnotations``,
-``foxglove.SceneUpdate``, ``foxglove.Log``, ``foxglove.CameraCalibration``) are encoded with
+``foxglove.SceneUpdate``, ``foxglove.Log``) are encoded with
 foxglove-sdk's message classes (protobuf, with the schema's FileDescriptorSet), so Foxglove shows
 them as images, overlays, a 3D scene and a log panel. Everything else is JSON with a JSON schema,
 plottable field by field. The same table serves the MCAP file and the live WebSocket server.
@@ -51,7 +51,6 @@ def _build() -> dict[str, Topic]:
     rows = [
         _foxglove("/camera/left/image", "CompressedImage", "kept left frames (JPEG/PNG, original pixels)"),
         _foxglove("/camera/right/image", "CompressedImage", "kept right frames"),
-        _foxglove("/camera/left/calibration", "CameraCalibration", "left camera intrinsics (original image)"),
         _foxglove("/camera/left/annotations", "ImageAnnotations",
                   "arm, projected pointing ray, candidates with probability, chosen target, tracked box"),
         _foxglove("/scene", "SceneUpdate", "3D, rectified left camera frame: arm, its ray, candidates, target"),
