@@ -195,7 +195,7 @@ def _source(value: Any, root: Path, where: str) -> str:
     from .sources import parse_spec
 
     scheme, target, _ = parse_spec(value)
-    if scheme in ("folder", "bag", "") and target and not Path(target).is_absolute():
+    if scheme in ("folder", "bag", "record", "") and target and not Path(target).is_absolute():
         resolved = str(root / target)
         return value.replace(target, resolved, 1)
     return value

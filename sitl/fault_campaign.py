@@ -47,7 +47,7 @@ from dip3d_vehicle.clock import SimClock
 from dip3d_vehicle.config import load_params
 from dip3d_vehicle.frames import StereoFrame
 from dip3d_vehicle.link import VehicleLink
-from dip3d_vehicle.runlog import RunLogReader, RunLogWriter
+from dip3d_vehicle.record.mcap_log import McapRunReader, McapRunWriter
 from dip3d_vehicle.servo.command import VelocityCommand
 
 from .autopilot import Autopilot
@@ -224,7 +224,7 @@ class ControllerTrial:
         plan: the fault plan.
         params: parameters (link.*, sim.*, sitl.*).
         seed: drives the relay and the synthetic frames.
-        log_path: run log to write (telemetry every 0.1 s, one frame record per accepted frame, events).
+        log_path: run record (MCAP) to write (telemetry every 0.1 s, one frame record per accepted frame, events).
     """
 
     def __init__(self, plan: FaultPlan, params: Mapping[str, Any] | None = None, seed: int = 0,
@@ -260,7 +260,7 @@ class ControllerTrial:
         self.ticks: list[tuple[float, bool, bool]] = []  # (t, engaged, motion sent)
         self.ctrl_heard_ap_hb: list[float] = []
         self._last_ap_hb: float | None = None
-        self.log = RunLogWriter(log_path, None, {"command": "fault_campaign"}, overwrite=True) if log_path else None
+        self.log = McapRunWriter(log_path, None, {"command": "fault_campaign"}, overwrite=True) if log_path else None
         self.log_counts = {"frames": 0, "telemetry": 0, "events": 0}
         self._first_engaged: float | None = None
         self._latency = float(p["sitl.perception_latency_s"])
@@ -349,7 +349,7 @@ def run_trial(fault: str, seed: int, params: Mapping[str, Any] | None = None, ta
     plan = load_fault_plan(TRIAL_PLANS[fault], seed=seed)
     res = TrialResult(fault, seed, [], bound_s=BOUNDS_S.get(fault))
     with tempfile.TemporaryDirectory() as tmp:
-        log_path = Path(tmp) / "trial.log"
+        log_path = Path(tmp) / "trial.mcap"
         trial = None
         try:
             trial = ControllerTrial(plan, params, seed, log_path)
@@ -375,7 +375,7 @@ def run_trial(fault: str, seed: int, params: Mapping[str, Any] | None = None, ta
         _score(res, trial)
         written = sum(trial.log_counts.values())
         try:
-            with RunLogReader(log_path) as reader:
+            with McapRunReader(log_path) as reader:
                 read = sum(1 for _ in reader.frames()) + sum(1 for _ in reader.telemetry()) + sum(
                     1 for _ in reader.events())
         except Exception as exc:  # noqa: BLE001
@@ -653,15 +653,15 @@ def run_faulted_mission(scenario: str = "paper_pool", seed: int = 0, plan: Fault
 def _mission_one(args: tuple) -> dict:
     seed, plan_path, overrides = args
     with tempfile.TemporaryDirectory() as tmp:
-        path = Path(tmp) / "run.log"
+        path = Path(tmp) / "run.mcap"
         params = load_params()
         wall0 = time.perf_counter()
         try:
-            with RunLogWriter(path, None, {"command": "fault_campaign missions"}, overwrite=True) as log:
+            with McapRunWriter(path, None, {"command": "fault_campaign missions"}, overwrite=True) as log:
                 result, sim = run_faulted_mission("paper_pool", seed, plan_path, params, log=log, **overrides)
         except Exception as exc:  # noqa: BLE001
             return {"seed": seed, "crashed": f"{exc.__class__.__name__}: {exc}", "traceback": traceback.format_exc()[-1500:]}
-        with RunLogReader(path) as reader:
+        with McapRunReader(path) as reader:
             read = {"frames": sum(1 for _ in reader.frames()), "telemetry": sum(1 for _ in reader.telemetry())}
         out = result.to_json()
         out.update({"crashed": "", "log_written": sim.log_counts, "log_read": read,

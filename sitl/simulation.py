@@ -338,6 +338,8 @@ class Simulation:
         self.scenario, self.params, self.fault, self.speed = scenario, params, fault, speed
         self.stop_when_done, self.log = stop_when_done, log
         self.clock = SimClock()
+        if hasattr(log, "set_clock"):  # the run recorder (record/recorder.py): its timeline is the simulated one
+            log.set_clock(self.clock)
         v = scenario.initial_vehicle_pose
         guided = params["link.output_mode"] == "guided_velocity"
         self.ap = Autopilot(params, self.clock, listen=["tcp:127.0.0.1:0"], has_position=guided or None,
@@ -347,7 +349,8 @@ class Simulation:
         self._wrap_autopilot()
         self.router = Router(self.ap.addresses[0])
         self.router.step()
-        self.link = VehicleLink(params.with_overrides({"link.url": self.router.address}, "sitl router"), self.clock)
+        self.link = VehicleLink(params.with_overrides({"link.url": self.router.address}, "sitl router"), self.clock,
+                                recorder=log if hasattr(log, "mavlink_sent") else None)
         self.link.open()
         self.pilot = SimPilot(self.router.address, self.clock, self.link.config.engage_mode,
                               float(params["sitl.gcs_arm_at_s"]))
@@ -492,6 +495,8 @@ class Simulation:
                             "tracked_left_px": None if self.mission.bb.target is None else
                             [float(v) for v in self.mission.bb.target.left_px]})
             self.log.frame(rec_obs)
+        if hasattr(self.log, "tick"):  # the run recorder: states, servo, story, overlays, live view
+            self.log.tick(now, rec, self.mission, observation, self.link)
 
     # -- outcome ----------------------------------------------------------------------------
     def chosen_placard(self) -> int | None:

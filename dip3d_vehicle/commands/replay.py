@@ -1,17 +1,18 @@
-"""``dip3d-vehicle replay LOG``: re-run perception on the image pairs a run log kept.
+"""``dip3d-vehicle replay RUN.mcap``: re-run perception on the image pairs a run record kept.
 
 Parameters: the log header's ``params`` (the run's effective values), then ``--params`` files and
 ``--set`` overrides; with an explicit ``--profile`` the run's values are replaced by that profile.
 
-What replay reads from the log (writers of logs: ``run``, ``sitl``):
+What replay reads from the run record (``run.mcap``, written by ``run`` and ``sitl``; the "header"
+is its ``run``, ``params`` and ``calibration`` metadata):
 
 - header ``meta["calib"]``: calibration file path, or list of paths, as ``load_rig`` takes them
   (relative paths are tried from the working directory, then from the log's folder); or
   header ``meta["calib_opencv_yaml"]``: the calibration embedded as the text of an OpenCV
   FileStorage YAML (what ``write_opencv_calibration`` writes); one of the two is required.
 - header ``meta["image_size"]`` (optional): [width, height] of the frames.
-- image records (``RunLogWriter.images``): the kept pairs, ``frame_index`` = the frame's index.
-- frame records: ``index`` (matches the image record's ``frame_index``), ``status`` and
+- image messages (``/camera/left/image``, ``/camera/right/image`` and ``/dip3d/kept``): the kept pairs, ``frame_index`` = the frame's index.
+- frame records (``/dip3d/frame``): ``index`` (matches the image record's ``frame_index``), ``status`` and
   ``target`` (``{"left_px": [x, y], ...}`` original px, or null) as in the contract JSON: the
   run's decision; and ``keypoints`` (keypoints-file dict, original px, or null) when the run's
   ``pose.backend`` is ``keypoints`` (the simulator's pose source): replay feeds them back.
@@ -30,18 +31,18 @@ from typing import Any, Iterator, Mapping
 
 from ..config import Params, load_params, schema
 from ..errors import LogError
-from ..runlog import RunLogReader
+from ..record.mcap_log import McapRunReader
 from ._common import add_params_arguments
 
 NAME = "replay"
-HELP = "re-run perception (optionally with other parameters) on the image pairs a run log kept"
+HELP = "re-run perception (optionally with other parameters) on the image pairs a run record (run.mcap) kept"
 
 __all__ = ["replay_log", "replay_params", "log_rig", "changed"]
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """Add the command's arguments."""
-    parser.add_argument("log", metavar="LOG", help="run log written by run or sitl")
+    parser.add_argument("log", metavar="RUN.mcap", help="run record (run.mcap) written by run or sitl")
     parser.add_argument("--json", action="store_true", help="print one JSON object")
     parser.add_argument("--tolerance-px", type=float, default=2.0,
                         help="a target that moved more than this counts as changed (default 2 px)")
@@ -66,7 +67,7 @@ def replay_params(header: Mapping[str, Any], profile: str | None = None, files: 
     return (base.with_overrides(over, "command line") if over else base), unknown
 
 
-def log_rig(reader: RunLogReader, params: Mapping[str, Any], image_size: tuple[int, int]):
+def log_rig(reader: McapRunReader, params: Mapping[str, Any], image_size: tuple[int, int]):
     """Return the StereoRig named or embedded in the log header (see the module doc)."""
     from ..perception.calibration_io import load_rig
 
@@ -109,9 +110,9 @@ def replay_log(path: str | Path, params: Params, tolerance_px: float = 2.0) -> I
     """Yield, for each kept image pair, {index, old, new, changed} (old/new: status + target)."""
     from ..perception.pipeline import Perception, make_pose_estimator
 
-    with RunLogReader(path) as reader:
+    with McapRunReader(path) as reader:
         if reader.header is None:
-            raise LogError(f"{reader.path}: run log is cut inside its header (nothing to replay)")
+            raise LogError(f"{reader.path}: run record is cut before its metadata (nothing to replay)")
         records = {int(f["index"]): f for f in reader.frames() if isinstance(f.get("index"), int)}
         engine = None
         for index, left, right in reader.image_pairs():
@@ -137,7 +138,7 @@ def _fmt(decision: Mapping[str, Any] | None) -> str:
 
 def run(args: argparse.Namespace) -> int:
     """Replay the log and print per-frame old -> new decisions and a summary."""
-    with RunLogReader(args.log) as reader:
+    with McapRunReader(args.log) as reader:
         header = reader.header or {}
     params, unknown = replay_params(header, args.profile, args.params, args.set_)
     rows = []

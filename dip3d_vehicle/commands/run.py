@@ -12,12 +12,14 @@ with ``--enable`` (``link.auto_enable``). Ctrl-C stops: the link sends the stop 
 from __future__ import annotations
 
 import argparse
+import sys
 import itertools
 import time
 from pathlib import Path
 
 from ..errors import Dip3dError
 from ._common import add_params_arguments, params_from_args
+from ._record import add_record_arguments, close_recorder, open_recorder
 
 NAME = "run"
 HELP = "onboard mission loop: stereo camera + ArduSub autopilot over MAVLink"
@@ -30,7 +32,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--calib", required=True, nargs="+", metavar="CALIB", help="stereo calibration file(s)")
     parser.add_argument("--enable", action="store_true", help="give the operator's enable at start (link.auto_enable)")
     parser.add_argument("--duration", type=float, default=None, metavar="S", help="stop after S seconds")
-    parser.add_argument("--log", metavar="FILE", default=None, help="write a run log (replayable)")
+    parser.add_argument("--out", metavar="DIR", default=None,
+                        help="output folder: run.mcap (Foxglove, replayable), mav.tlog (every MAVLink message)")
+    parser.add_argument("--log", metavar="FILE", default=None,
+                        help="write the run record (MCAP) to FILE instead (mav.tlog beside it)")
+    add_record_arguments(parser)
     add_params_arguments(parser)
 
 
@@ -69,18 +75,32 @@ def run(args: argparse.Namespace) -> int:
             pose.provide(frame.meta["keypoints"])
 
     clock = WallClock()
-    link = VehicleLink(params, clock)
+    log = None
+    if args.log or args.out:
+        from dip3d_vehicle.record.recorder import MCAP_NAME, RecordingProcessor
+
+        path = Path(args.log) if args.log else Path(args.out) / MCAP_NAME
+        try:
+            path.parent.mkdir(parents=True, exist_ok=True)
+        except OSError as exc:
+            raise Dip3dError(f"{path.parent}: cannot create output folder ({exc.strerror})") from None
+        log, lines = open_recorder(args, path, params, {"command": "run", "camera": args.camera, "calib": args.calib,
+                                                        "image_size": list(size)}, rig, "run", clock=clock)
+        for line in lines:
+            print(line, file=sys.stderr, flush=True)
+    elif args.view or args.foxglove or args.video:
+        raise Dip3dError("--view / --foxglove / --video: need --out DIR (or --log FILE)")
+    link = VehicleLink(params, clock, recorder=log)
     link.open()
     mission = build_mission(params, rig, size, clock.now())
     controller = Controller(link, mission, clock)
-    worker = PerceptionWorker(itertools.chain([first], frames), FrameProcessor(perception, before),
+    processor = FrameProcessor(perception, before)
+    if log is not None:
+        log.attach_link(link)
+        processor = RecordingProcessor(processor, log)
+    worker = PerceptionWorker(itertools.chain([first], frames), processor,
                               lambda: mission.needs, clock, params["mission.max_frame_age_s"],
                               roi=lambda: mission.track_roi(rig, size), image_size=tuple(rig.image_size))
-    log = None
-    if args.log:
-        from dip3d_vehicle.runlog import RunLogWriter
-        log = RunLogWriter(Path(args.log), params, {"command": "run", "camera": args.camera,
-                                                   "calib": args.calib, "image_size": list(size)})
     period = 1.0 / params["behaviour.tick_rate_hz"]
     printed = 0
     t_end = None if args.duration is None else clock.now() + args.duration
@@ -91,8 +111,11 @@ def run(args: argparse.Namespace) -> int:
         while t_end is None or clock.now() < t_end:
             obs = worker.take()
             rec = controller.tick(obs)
-            if log is not None and obs is not None:
-                log.frame({**observation_summary(obs), "state": rec.state, "engaged": rec.engaged})
+            if log is not None:
+                if obs is not None:
+                    log.frame({**observation_summary(obs), "state": rec.state, "engaged": rec.engaged,
+                               "target": _target(obs, rig)})
+                log.tick(rec.t_s, rec, mission, obs, link)
             printed = _print_new(link.events + mission.bb.story, printed)
             if worker.error is not None:
                 raise Dip3dError(f"perception: {worker.error}")
@@ -111,12 +134,19 @@ def run(args: argparse.Namespace) -> int:
         link.close()
         source.close()
         if log is not None:
-            for line in link.events + mission.bb.story:
-                log.event(line)
-            log.close()
+            log.story(link.events + mission.bb.story)
+            close_recorder(log)
     print(f"run: frames in {worker.frames_in}, dropped {worker.dropped_frames} (newest wins), stale "
           f"{worker.stale_frames}, results dropped {worker.dropped_results}; arrivals {mission.bb.arrivals}")
     return 0
+
+
+def _target(obs, rig) -> dict | None:
+    """The observation's chosen target in original left pixels (what replay compares), or None."""
+    r = obs.result
+    if r is None or r.target_rect_px is None:
+        return None
+    return {"left_px": [float(v) for v in rig.to_original(r.target_rect_px, "left")[0]]}
 
 
 def _print_new(lines: list[str], printed: int) -> int:

@@ -3,7 +3,7 @@
 The simulated pilot arms the vehicle, selects the engage mode and enables the controller; the
 diver points; the controller waits for the arm, confirms the point, selects the target by votes,
 nods, servoes to the stand-off and reports. Writes to ``--out`` (default ``sitl.out_dir``): the run
-log ``run.log`` (replayable: ``dip3d-vehicle replay``), ``trajectory.png`` (top view and depth
+record ``run.mcap`` (Foxglove; replayable: ``dip3d-vehicle replay``), the MAVLink log ``mav.tlog``, ``trajectory.png`` (top view and depth
 over time, placards and diver marked) and ``final_view.png`` (the last left frame, target marked).
 Exit code 0 whether or not the vehicle arrived; 2 on bad input.
 """
@@ -11,6 +11,7 @@ Exit code 0 whether or not the vehicle arrived; 2 on bad input.
 from __future__ import annotations
 
 import argparse
+import sys
 import json
 import math
 import tempfile
@@ -18,6 +19,7 @@ from pathlib import Path
 
 from ..errors import Dip3dError
 from ._common import add_params_arguments, params_from_args
+from ._record import add_record_arguments, close_recorder, open_recorder
 
 NAME = "sitl"
 HELP = "run the whole mission closed-loop against the simulated ArduSub (real MAVLink sockets)"
@@ -36,13 +38,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--faults", metavar="FILE", default=None,
                         help="inject the faults of a fault plan (e.g. sitl/faults/link_cut.yaml): lossy link, "
                              "autopilot reboot, pilot actions, ground-station loss, camera faults")
+    add_record_arguments(parser)
     add_params_arguments(parser)
 
 
 def run(args: argparse.Namespace) -> int:
     """Run one simulated mission and print its outcome."""
     from dip3d_vehicle.perception.calibration_io import write_opencv_calibration
-    from dip3d_vehicle.runlog import RunLogWriter
     from sitl.scenario import load_scenario
     from sitl.fault_campaign import load_fault_plan, make_simulation
     from sitl.simulation import sim_params
@@ -66,16 +68,27 @@ def run(args: argparse.Namespace) -> int:
     keep = params["runlog.keep_images_every"]
     if params.source("runlog.keep_images_every") == "schema default":
         keep = 10  # a 1600x1200 pair per frame would dominate the run time; every 10th frame
+    if params.source("runlog.video_fps") == "schema default":  # one video frame per camera frame
+        params = params.with_overrides({"runlog.video_fps": params["sitl.camera_rate_hz"]}, "sitl")
     meta = {"command": "sitl", "scenario": scenario.name, "seed": args.seed, "calib_opencv_yaml": calib_text,
             "image_size": list(scenario.camera.image_size), "target_id": scenario.target_id}
-    with RunLogWriter(out / "run.log", params, meta, keep_images_every=keep, overwrite=True) as log:
+    log, lines = open_recorder(args, out / "run.mcap", params, meta, command="sitl", keep_images_every=keep,
+                               overwrite=True)
+    try:
+        for line in lines:
+            print(line, file=sys.stderr, flush=True)
         sim = make_simulation(scenario, params, args.faults, args.seed, speed=args.speed, log=log)
+        log.rig = sim.rig
+        log.attach_link(sim.link)
         try:
             result = sim.run()
         finally:
             sim.close()
-        for line in result.story:
-            log.event(line)
+        log.story(sim.link.events + sim.mission.bb.story)  # the lines of the link's close
+        log.event(f"t={result.sim_time_s:.2f} outcome: arrived={result.arrived} chosen={result.chosen_id} "
+                  f"target={result.target_id}")
+    finally:
+        close_recorder(log)
     if not args.no_plots:
         write_trajectory_plot(sim, result, out / "trajectory.png")
         write_final_view(sim, result, out / "final_view.png")
@@ -104,7 +117,7 @@ def print_story(result, out: Path) -> None:
         print(f"sitl: did NOT arrive ({tracked}); pointed placard {result.target_id} at "
               f"{_fmt(result.final_range_m, 'm')} at the end")
     print(f"sitl: {result.sim_time_s:.1f} s simulated in {result.wall_time_s:.1f} s")
-    print(f"sitl: wrote {out / 'run.log'}, {out / 'trajectory.png'}, {out / 'final_view.png'}")
+    print(f"sitl: wrote {out / 'run.mcap'}, {out / 'mav.tlog'}, {out / 'trajectory.png'}, {out / 'final_view.png'}")
 
 
 def _fmt(v, unit: str) -> str:

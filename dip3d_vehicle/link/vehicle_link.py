@@ -137,6 +137,8 @@ class VehicleLink:
     Args:
         params: a Params (or mapping of ``link.*`` keys; missing keys take the schema default).
         clock: the time source for every timeout and rate (WallClock onboard, SimClock in simulation).
+        recorder: an object with ``mavlink_sent(msg)`` and ``mavlink_received(msg)`` (the run's
+            ``mav.tlog``, ``dip3d_vehicle.record.recorder.RunRecorder``), called for every message, or None.
 
     Attributes:
         config: the resolved LinkConfig.
@@ -148,9 +150,10 @@ class VehicleLink:
         not_engaged_reason: why it is not engaged now ("" when engaged).
     """
 
-    def __init__(self, params: Mapping[str, Any] | LinkConfig, clock: Clock) -> None:
+    def __init__(self, params: Mapping[str, Any] | LinkConfig, clock: Clock, recorder: Any = None) -> None:
         self.config = params if isinstance(params, LinkConfig) else LinkConfig.from_params(params)
         self.clock = clock
+        self.recorder = recorder  # mavlink_sent(msg) / mavlink_received(msg): the run's tlog (record/)
         c = self.config
         self.autopilot = AutopilotState(sysid=c.target_system, compid=c.target_component)
         self.gcs = GcsState(sysid=c.gcs_system_id)
@@ -274,6 +277,8 @@ class VehicleLink:
                 break
             if msg is None:
                 break
+            if self.recorder is not None:
+                self.recorder.mavlink_received(msg)
             if self._handle(msg, now):
                 count += 1
         self._update_signing_counts()
@@ -521,6 +526,8 @@ class VehicleLink:
             self._event(f"send error on {self.config.url}: {exc}")
             return
         self.stats.count_sent(name)
+        if self.recorder is not None:
+            self.recorder.mavlink_sent(msg)
 
     def _send_heartbeat(self) -> None:
         """Our own HEARTBEAT: onboard controller, no autopilot, active while engaged."""

@@ -15,6 +15,7 @@ Spec syntax (options after ``?`` as ``key=value&key=value``, except for ``gst:``
                                                        needs an OpenCV built with GStreamer
 ``bag:PATH?left=/t&right=/t&tolerance=0.005``          ROS 1 ``.bag`` or ROS 2 bag folder
 ``PATH.bag`` or a folder holding ``metadata.yaml``     a bag, detected
+``record:RUN.mcap`` or a ``.mcap`` run record          the stereo pairs a run record kept
 =====================================================  ===========================================
 
 Options (spec or keyword): ``max_frames``, ``folder_fps``, ``tolerance``/``bag_tolerance_s``,
@@ -31,6 +32,7 @@ from urllib.parse import parse_qsl
 
 from ..errors import SourceError
 from .bag import BagSource
+from .record import RecordSource, is_run_record
 from .base import StereoSource
 from .folder import FolderSource
 from .video import CapturePairSource, SideBySideSource, gstreamer_supported
@@ -42,7 +44,7 @@ __all__ = [
     "SideBySideSource", "FolderWriter", "write_folder", "gstreamer_supported", "AnnotatedVideo",
 ]
 
-_SCHEMES = ("folder", "video", "sbs", "v4l2", "gst", "bag")
+_SCHEMES = ("folder", "video", "sbs", "v4l2", "gst", "bag", "record")
 
 
 def parse_spec(spec: str) -> tuple[str, str, dict[str, str]]:
@@ -61,6 +63,8 @@ def parse_spec(spec: str) -> tuple[str, str, dict[str, str]]:
         path = Path(target)
         is_bag = path.suffix in (".bag", ".db3", ".mcap") or (path / "metadata.yaml").is_file()
         scheme = "bag" if is_bag else "folder"
+        if path.suffix == ".mcap" and is_run_record(path):
+            scheme = "record"
     return scheme, target, options
 
 
@@ -86,6 +90,8 @@ def open_source(spec: str, params: Mapping[str, Any] | None = None, **options: A
         raise SourceError(f"{spec}: no path, file or device after '{scheme}:'")
     if scheme == "folder":
         return FolderSource(target, opts, params, spec=spec)
+    if scheme == "record":
+        return RecordSource(target, opts, params, spec=spec)
     if scheme == "bag":
         left, right = opts.pop("left", None), opts.pop("right", None)
         return BagSource(target, left or None, right or None, opts, params, spec=spec)

@@ -11,14 +11,14 @@ from dip3d_vehicle.commands.replay import replay_params
 from dip3d_vehicle.config import load_params
 from dip3d_vehicle.dataset import load_dataset
 from dip3d_vehicle.perception.pipeline import Perception, make_pose_estimator
-from dip3d_vehicle.runlog import RunLogWriter
+from dip3d_vehicle.record.mcap_log import McapRunWriter
 
 
 def _write_log(path, dataset_dir, meta, params):
     """Run perception over the dataset as a run would, logging frames, keypoints and png pairs."""
     ds = load_dataset(dataset_dir)
     decisions = {}
-    with RunLogWriter(path, params, meta, image_format="png") as log:
+    with McapRunWriter(path, params, meta, image_format="png") as log:
         engine = None
         for ann, frame in ds.pairs():
             if engine is None:
@@ -35,7 +35,7 @@ def _write_log(path, dataset_dir, meta, params):
 
 @pytest.fixture(scope="module")
 def run_log(sim_dataset, tmp_path_factory):
-    path = tmp_path_factory.mktemp("replay") / "dive.dlog"
+    path = tmp_path_factory.mktemp("replay") / "dive.mcap"
     params = load_params("paper", overrides={"pose.backend": "keypoints"})  # the simulator's pose source
     decisions = _write_log(path, sim_dataset, {"calib": str(sim_dataset / "calib.yaml")}, params)
     return path, decisions
@@ -75,16 +75,16 @@ def test_params_rebuilt_from_the_header():
 def test_embedded_calibration_and_missing_calibration(sim_dataset, tmp_path, capsys):
     params = load_params("default", overrides={"pose.backend": "keypoints"})
     text = (sim_dataset / "calib.yaml").read_text()
-    embedded = tmp_path / "embedded.dlog"
+    embedded = tmp_path / "embedded.mcap"
     decisions = _write_log(embedded, sim_dataset, {"calib_opencv_yaml": text}, params)
     assert main(["replay", str(embedded), "--json"]) == 0
     doc = json.loads(capsys.readouterr().out)
     assert doc["changed"] == 0
     assert [r["new"]["target"] for r in doc["replayed"]] == [decisions[i]["target"] for i in range(4)]
-    bare = tmp_path / "bare.dlog"
-    with RunLogWriter(bare, params, {}) as log:
+    bare = tmp_path / "bare.mcap"
+    with McapRunWriter(bare, params, {}) as log:
         frame = next(load_dataset(sim_dataset).pairs())[1]
         log.images(0, frame.left, frame.right)
     assert main(["replay", str(bare)]) == 2
     err = capsys.readouterr().err
-    assert "bare.dlog: header meta has no 'calib'" in err
+    assert "bare.mcap: header meta has no 'calib'" in err

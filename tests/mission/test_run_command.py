@@ -39,7 +39,7 @@ def test_run_loop_processes_a_folder_and_talks_to_the_autopilot(tmp_path, capsys
         run_command.add_arguments(parser)
         args = parser.parse_args(["--connect", ap.addresses[0], "--camera", str(tmp_path), "--calib", str(CALIB),
                                   "--duration", "3", "--set", "pose.backend=keypoints",
-                                  "--log", str(tmp_path / "run.log")])
+                                  "--out", str(tmp_path / "out")])
         assert run_command.run(args) == 0
     finally:
         stop.set()
@@ -47,4 +47,17 @@ def test_run_loop_processes_a_folder_and_talks_to_the_autopilot(tmp_path, capsys
         ap.close()
     out = capsys.readouterr().out
     assert "autopilot first heard" in out and "frames in 4" in out
-    assert (tmp_path / "run.log").stat().st_size > 0
+    from collections import Counter
+
+    from pymavlink import mavutil
+
+    from dip3d_vehicle.record.mcap_log import McapRunReader
+
+    with McapRunReader(tmp_path / "out" / "run.mcap") as record:
+        topics = Counter(m.topic for m in record.messages())
+        assert record.stats["truncated"] is False and record.header["meta"]["command"] == "run"
+        assert len(list(record.image_pairs())) >= 1
+    assert topics["/dip3d/frame"] >= 1 and topics["/autopilot/status"] >= 1 and topics["/story"] >= 1
+    tlog = mavutil.mavlink_connection(str(tmp_path / "out" / "mav.tlog"))
+    kinds = Counter(iter(lambda: (m := tlog.recv_match()) and m.get_type(), None))
+    assert kinds["HEARTBEAT"] >= 2 and kinds["ATTITUDE"] >= 1  # ours and the autopilot's

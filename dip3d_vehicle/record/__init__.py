@@ -1,0 +1,1 @@
+"""What a run records: ``run.mcap`` (Foxglove-readable), ``mav.tlog`` and the annotated video."""
