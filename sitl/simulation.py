@@ -37,11 +37,13 @@ from behaviours.loop import Controller, FrameProcessor, build_mission, observati
 from dip3d_vehicle.clock import SimClock
 from dip3d_vehicle.config import Params, load_params
 from dip3d_vehicle.link import MAV_CMD_USER_1, VehicleLink
+from dip3d_vehicle.link.statustext import StatusTextAssembler
 from dip3d_vehicle.perception.keypoints_file import GivenKeypoints
 from dip3d_vehicle.perception.pipeline import Perception
 
 from .autopilot import Autopilot
 from .dynamics import VehicleState
+from .outcome import mission_outcome
 from .render import StereoRenderer
 from .scenario import Scenario, load_scenario
 
@@ -177,6 +179,7 @@ class SimPilot:
         self.armed = False
         self.mode = ""
         self.statustexts: list[tuple[float, str]] = []
+        self._texts = StatusTextAssembler()
         # A pilot flying GUIDED has the joystick connected: it streams centred sticks (as QGC does),
         # which keeps ArduSub's pilot-input failsafe quiet; GUIDED ignores them. In ALT_HOLD the
         # controller's own MANUAL_CONTROL is the pilot input, and a second stream would fight it.
@@ -216,8 +219,9 @@ class SimPilot:
             self.armed = bool(msg.base_mode & m2.MAV_MODE_FLAG_SAFETY_ARMED)
             self.mode = {v: k for k, v in _MODES.items()}.get(msg.custom_mode, str(msg.custom_mode))
         elif kind == "STATUSTEXT":
-            text = msg.text if isinstance(msg.text, str) else msg.text.decode(errors="replace")
-            self.statustexts.append((now, f"{src[0]}/{src[1]}: {text.rstrip(chr(0))}"))
+            text = self._texts.add(msg)  # chunked texts (id / chunk_seq) put back together
+            if text is not None:
+                self.statustexts.append((now, f"{src[0]}/{src[1]}: {text}"))
         elif kind == "COMMAND_ACK" and getattr(msg, "target_system", GCS_SYSID) == GCS_SYSID:
             self.acks.append((now, msg.command, msg.result))
             if msg.command == MAV_CMD_USER_1 and src == (1, 191):
@@ -298,11 +302,13 @@ class SimResult:
     fault: dict | None = None
     safety: dict = field(default_factory=dict)
     counters: dict = field(default_factory=dict)
+    outcome: str = ""
+    outcome_reason: str = ""
 
     def to_json(self) -> dict:
-        """Return the JSON object of ``dip3d-vehicle sitl --json``."""
+        """Return the JSON object of ``dip3d-vehicle sitl --json`` (``outcome``: see sitl/outcome.py)."""
         out = {k: getattr(self, k) for k in (
-            "arrived", "target_id", "chosen_id", "final_range_m", "sim_time_s", "states", "scenario",
+            "outcome", "outcome_reason", "arrived", "target_id", "chosen_id", "final_range_m", "sim_time_s", "states", "scenario",
             "seed", "diver_position", "reached", "time_to_arrive_s", "final_range_error_m",
             "final_pixel_error_px", "range_at_arrival_m", "range_error_at_arrival_m", "wall_time_s", "counters")}
         if self.fault is not None:
@@ -366,6 +372,7 @@ class Simulation:
         self.last_meta: dict = {}
         self.fault_at_s: float | None = None
         self.ticks: list[tuple[float, str, bool, bool]] = []
+        self.on_step: Any = None  # called with the sim time after every step (the live story printer)
 
     # -- autopilot-side counters ----------------------------------------------------------
     def _wrap_autopilot(self) -> None:
@@ -416,6 +423,8 @@ class Simulation:
                 self.router.step()
                 self.ticks.append((now, rec.state, rec.engaged, rec.command is not None and not rec.command.is_neutral()))
                 self._record(now, rec, observation, obs_meta)
+                if self.on_step is not None:
+                    self.on_step(now)
                 if self.mission.state == "done" and done_at is None:
                     done_at = now
                     self.range_at_arrival = self._true_range()
@@ -528,13 +537,14 @@ class Simulation:
         px = bb.errors.pixel_px if bb.errors is not None else None
         at_arrival = self.range_at_arrival
         err_arrival = None if at_arrival is None else at_arrival - bb.config.standoff_m
-        reached = bool(bb.arrived and chosen == target and err_arrival is not None
-                       and abs(err_arrival) <= bb.config.arrive_tolerance_m)
+        outcome = mission_outcome(arrived=bb.arrived, chosen_id=chosen, target_id=target,
+                                  range_error_at_arrival_m=err_arrival, tolerance_m=bb.config.arrive_tolerance_m,
+                                  states=[s for _, s in self.mission.history], sim_time_s=self.clock.now())
         story = sorted(self.link.events + bb.story + [f"t={t:.2f} pilot heard {s}" for t, s in self.pilot.statustexts],
                        key=_story_time)
         return SimResult(
             scenario=sc.name, seed=sc.seed, diver_position=sc.diver.position_name, target_id=target,
-            chosen_id=chosen, arrived=bb.arrived, reached=reached, time_to_arrive_s=done_t,
+            chosen_id=chosen, arrived=bb.arrived, reached=outcome.word == "reached", time_to_arrive_s=done_t,
             final_range_m=_round(final_range), final_range_error_m=_round(err_m), final_pixel_error_px=_round(px, 1),
             range_at_arrival_m=_round(at_arrival), range_error_at_arrival_m=_round(err_arrival),
             sim_time_s=round(self.clock.now(), 3), wall_time_s=round(wall_s, 2),
@@ -544,7 +554,8 @@ class Simulation:
             counters={"frames": dict(self.processor.processed), "ticks": len(self.ticks),
                       "statustext_sent": self.controller.sent["statustext"],
                       "received_commands": len(self.received),
-                      "received_motion": sum(r.motion for r in self.received)})
+                      "received_motion": sum(r.motion for r in self.received)},
+            outcome=outcome.word, outcome_reason=outcome.reason)
 
     def safety(self) -> dict:
         """Return the safety numbers of a fault run (times relative to the fault / its detection)."""
