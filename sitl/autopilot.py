@@ -29,9 +29,11 @@ from dip3d_vehicle.clock import Clock
 from dip3d_vehicle.config import load_params
 
 from .dynamics import Dynamics, VehicleParams, VehicleState, wrap_pi
+from .mavftp import FtpServer
 from .mavlink_endpoint import Endpoint, Link
 from .modes import (MODE_NUMBERS, MODES, POSITION_MODES, ControlGains, Controller, GuidedTarget,
                     PilotInput, joystick_to_pwm)
+from .sys_status import sys_status_bits
 
 __all__ = ["Autopilot", "Event", "ARDUSUB_PARAMS", "DEFAULT_INTERVALS_S"]
 
@@ -127,6 +129,7 @@ class Autopilot:
         self.pilot = PilotInput()
         self.guided = GuidedTarget()
         self.events: list[Event] = []
+        self.ftp = FtpServer(lambda: self.ap_params, ARDUSUB_PARAMS)  # @PARAM/param.pck, as ArduSub serves it
         self.counters: dict[str, int] = {"manual_control_ignored": 0, "setpoints_ignored": 0,
                                          "messages_in": 0}
         self._t0 = clock.now()
@@ -427,6 +430,13 @@ class Autopilot:
         self.guided = g
         self._event("setpoint", (frame, mask))
 
+    def _on_file_transfer_protocol(self, link: Link, msg: Any, now: float) -> None:
+        if not self._for_me(msg.target_system):
+            return
+        sender = (msg.get_srcSystem(), msg.get_srcComponent())
+        for payload in self.ftp.handle(sender, bytes(msg.payload)):
+            link.send(M.MAVLink_file_transfer_protocol_message(0, sender[0], sender[1], list(payload)))
+
     def _param_value(self, name: str) -> Any:
         names = sorted(self.ap_params)
         return M.MAVLink_param_value_message(name.encode(), float(self.ap_params[name]),
@@ -521,8 +531,8 @@ class Autopilot:
             return M.MAVLink_heartbeat_message(M.MAV_TYPE_SUBMARINE, M.MAV_AUTOPILOT_ARDUPILOTMEGA, base,
                                                self.mode, M.MAV_STATE_ACTIVE if self.armed else M.MAV_STATE_STANDBY, 3)
         if msg_id == M.MAVLINK_MSG_ID_SYS_STATUS:
-            sensors = 0x0020_0000 | 0x1 | 0x2 | 0x4 | 0x8 | 0x20
-            return M.MAVLink_sys_status_message(sensors, sensors, sensors, 100, 16000, 100, 90, 0, 0, 0, 0, 0, 0)
+            present, enabled, health = sys_status_bits(self.mode, self.has_position)  # ArduSub's bits: no "fence breach"
+            return M.MAVLink_sys_status_message(present, enabled, health, 100, 16000, 100, 90, 0, 0, 0, 0, 0, 0)
         if msg_id == M.MAVLINK_MSG_ID_ATTITUDE:
             return M.MAVLink_attitude_message(t_ms, 0.0, 0.0, s.yaw_rad, 0.0, 0.0, s.r_rad_s)
         if msg_id == M.MAVLINK_MSG_ID_GLOBAL_POSITION_INT:
