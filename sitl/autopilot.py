@@ -27,6 +27,7 @@ from pymavlink.dialects.v20 import ardupilotmega as mavlink2
 
 from dip3d_vehicle.clock import Clock
 from dip3d_vehicle.config import load_params
+from dip3d_vehicle.link.statustext import statustext_messages
 
 from .dynamics import Dynamics, VehicleParams, VehicleState, wrap_pi
 from .mavftp import FtpServer
@@ -130,6 +131,7 @@ class Autopilot:
         self.guided = GuidedTarget()
         self.events: list[Event] = []
         self.ftp = FtpServer(lambda: self.ap_params, ARDUSUB_PARAMS)  # @PARAM/param.pck, as ArduSub serves it
+        self._text_id = 0  # STATUSTEXT id of the last chunked text
         self.counters: dict[str, int] = {"manual_control_ignored": 0, "setpoints_ignored": 0,
                                          "messages_in": 0}
         self._t0 = clock.now()
@@ -249,7 +251,9 @@ class Autopilot:
     def statustext(self, severity: int, text: str) -> None:
         """Send a STATUSTEXT on every link and record it as an event."""
         self._event("statustext", text)
-        self.endpoint.broadcast(M.MAVLink_statustext_message(severity, text.encode()[:50], 0, 0))
+        self._text_id = self._text_id % 65535 + 1
+        for msg in statustext_messages(severity, text, self._text_id):  # > 50 characters: chunks, as ArduPilot
+            self.endpoint.broadcast(msg)
 
     def close(self) -> None:
         """Close all sockets."""
