@@ -5,12 +5,15 @@ from __future__ import annotations
 import argparse
 import json
 from importlib import resources
+from pathlib import Path
+
+import cv2
 
 from ..config import Params
 from ..errors import ImageError
 from ..perception.annotate import annotate
 from ..perception.calibration_io import load_rig
-from ..perception.images import check_pair, read_image, write_image
+from ..perception.images import check_pair, read_image
 from ..perception.keypoints_file import load_keypoints_file
 from ..perception.pipeline import Perception, make_pose_estimator
 from ._common import add_params_arguments, params_from_args
@@ -74,7 +77,9 @@ def run(args: argparse.Namespace) -> int:
     out = result.to_json(rig)
     out["profile"] = params.profile
     if args.annotate:
-        write_image(args.annotate, annotate(left, result, rig, params["selection.extension_factor"]))
+        path = Path(args.annotate)
+        if not cv2.imwrite(str(path), annotate(left, result, rig, params["selection.extension_factor"])):
+            raise ImageError(f"{path}: cannot write the annotated image")
     if args.json:
         print(json.dumps(out))
     else:
