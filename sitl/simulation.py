@@ -43,9 +43,9 @@ from dip3d_vehicle.perception.pipeline import Perception
 
 from .autopilot import Autopilot
 from .dynamics import VehicleState
-from .outcome import mission_outcome
 from .render import StereoRenderer
 from .scenario import Scenario, load_scenario
+from .outcome import mission_outcome
 
 __all__ = ["Router", "SimPilot", "Fault", "Received", "SimResult", "Simulation", "sim_params", "run_mission"]
 
@@ -299,16 +299,17 @@ class SimResult:
     wall_time_s: float
     states: list[dict]
     story: list[str]
+    outcome: str = ""
+    outcome_reason: str = ""
     fault: dict | None = None
     safety: dict = field(default_factory=dict)
     counters: dict = field(default_factory=dict)
-    outcome: str = ""
-    outcome_reason: str = ""
 
     def to_json(self) -> dict:
         """Return the JSON object of ``dip3d-vehicle sitl --json`` (``outcome``: see sitl/outcome.py)."""
         out = {k: getattr(self, k) for k in (
-            "outcome", "outcome_reason", "arrived", "target_id", "chosen_id", "final_range_m", "sim_time_s", "states", "scenario",
+            "outcome", "outcome_reason",
+            "arrived", "target_id", "chosen_id", "final_range_m", "sim_time_s", "states", "scenario",
             "seed", "diver_position", "reached", "time_to_arrive_s", "final_range_error_m",
             "final_pixel_error_px", "range_at_arrival_m", "range_error_at_arrival_m", "wall_time_s", "counters")}
         if self.fault is not None:
@@ -440,7 +441,7 @@ class Simulation:
             self.link.close()
             self.router.step()
             self.ap.step()
-        return self._result(time.perf_counter() - wall0)
+        return self._with_outcome(self._result(time.perf_counter() - wall0))
 
     def _capture(self, now: float):
         """Render the frame the camera sees now and process it (None while perception is stalled)."""
@@ -523,6 +524,16 @@ class Simulation:
             return None
         return float(self.last_meta["placards"][chosen]["range_m"])
 
+    def _with_outcome(self, result: SimResult) -> SimResult:
+        """Set the result's one outcome word and its reason (sitl/outcome.py); ``reached`` is that word."""
+        outcome = mission_outcome(arrived=result.arrived, chosen_id=result.chosen_id, target_id=result.target_id,
+                                  range_error_at_arrival_m=result.range_error_at_arrival_m,
+                                  tolerance_m=self.mission.bb.config.arrive_tolerance_m,
+                                  states=[s for _, s in self.mission.history], sim_time_s=result.sim_time_s)
+        result.outcome, result.outcome_reason = outcome.word, outcome.reason
+        result.reached = outcome.word == "reached"
+        return result
+
     def _result(self, wall_s: float) -> SimResult:
         sc, bb = self.scenario, self.mission.bb
         meta = self.last_meta
@@ -537,14 +548,13 @@ class Simulation:
         px = bb.errors.pixel_px if bb.errors is not None else None
         at_arrival = self.range_at_arrival
         err_arrival = None if at_arrival is None else at_arrival - bb.config.standoff_m
-        outcome = mission_outcome(arrived=bb.arrived, chosen_id=chosen, target_id=target,
-                                  range_error_at_arrival_m=err_arrival, tolerance_m=bb.config.arrive_tolerance_m,
-                                  states=[s for _, s in self.mission.history], sim_time_s=self.clock.now())
+        reached = bool(bb.arrived and chosen == target and err_arrival is not None
+                       and abs(err_arrival) <= bb.config.arrive_tolerance_m)
         story = sorted(self.link.events + bb.story + [f"t={t:.2f} pilot heard {s}" for t, s in self.pilot.statustexts],
                        key=_story_time)
         return SimResult(
             scenario=sc.name, seed=sc.seed, diver_position=sc.diver.position_name, target_id=target,
-            chosen_id=chosen, arrived=bb.arrived, reached=outcome.word == "reached", time_to_arrive_s=done_t,
+            chosen_id=chosen, arrived=bb.arrived, reached=reached, time_to_arrive_s=done_t,
             final_range_m=_round(final_range), final_range_error_m=_round(err_m), final_pixel_error_px=_round(px, 1),
             range_at_arrival_m=_round(at_arrival), range_error_at_arrival_m=_round(err_arrival),
             sim_time_s=round(self.clock.now(), 3), wall_time_s=round(wall_s, 2),
@@ -554,8 +564,7 @@ class Simulation:
             counters={"frames": dict(self.processor.processed), "ticks": len(self.ticks),
                       "statustext_sent": self.controller.sent["statustext"],
                       "received_commands": len(self.received),
-                      "received_motion": sum(r.motion for r in self.received)},
-            outcome=outcome.word, outcome_reason=outcome.reason)
+                      "received_motion": sum(r.motion for r in self.received)})
 
     def safety(self) -> dict:
         """Return the safety numbers of a fault run (times relative to the fault / its detection)."""
