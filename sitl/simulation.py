@@ -37,7 +37,6 @@ from behaviours.loop import Controller, FrameProcessor, build_mission, observati
 from dip3d_vehicle.clock import SimClock
 from dip3d_vehicle.config import Params, load_params
 from dip3d_vehicle.link import MAV_CMD_USER_1, VehicleLink
-from dip3d_vehicle.link.statustext import StatusTextAssembler
 from dip3d_vehicle.perception.keypoints_file import GivenKeypoints
 from dip3d_vehicle.perception.pipeline import Perception
 
@@ -179,7 +178,8 @@ class SimPilot:
         self.armed = False
         self.mode = ""
         self.statustexts: list[tuple[float, str]] = []
-        self._texts = StatusTextAssembler()
+        from dip3d_vehicle.link.statustext import StatusTextAssembler
+        self._texts = StatusTextAssembler()  # chunked STATUSTEXTs (id / chunk_seq) put back together
         # A pilot flying GUIDED has the joystick connected: it streams centred sticks (as QGC does),
         # which keeps ArduSub's pilot-input failsafe quiet; GUIDED ignores them. In ALT_HOLD the
         # controller's own MANUAL_CONTROL is the pilot input, and a second stream would fight it.
