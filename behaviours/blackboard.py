@@ -165,7 +165,7 @@ class Blackboard:
         """Add a line to the story; with ``pilot`` also queue it as a STATUSTEXT."""
         self.story.append(f"t={self.now_s:.2f} {text}")
         if pilot and self.config.statustext:
-            self.outbox.append(StatusText(severity, ("DIP3D: " + text)[:50]))
+            self.outbox.append(StatusText(severity, "DIP3D: " + text))  # sent in 50-character chunks
 
     def set_command(self, command: VelocityCommand | None) -> None:
         """Set the command the link streams until the next change (None = no motion)."""

@@ -133,6 +133,7 @@ class Controller:
     sent: dict = field(default_factory=lambda: {"statustext": 0, "set_servo": 0})
     last_observation: Observation | None = None
     observations: int = 0
+    _text_id: int = 0
 
     @property
     def bb(self) -> Blackboard:
@@ -169,7 +170,9 @@ class Controller:
         """Send the states' STATUSTEXTs and servo commands through the link's connection."""
         for item in items:
             if isinstance(item, StatusText):
-                self._raw_send("STATUSTEXT", _statustext(item))
+                self._text_id = self._text_id % 65535 + 1
+                for msg in _statustext(item, self._text_id):  # chunks of 50 characters (id / chunk_seq)
+                    self._raw_send("STATUSTEXT", msg)
                 self.sent["statustext"] += 1
             elif isinstance(item, SetServo):
                 c = self.link.config
@@ -182,10 +185,10 @@ class Controller:
         self.link.send_message(msg)
 
 
-def _statustext(item: StatusText) -> Any:
-    """Return a MAVLink STATUSTEXT message."""
-    from pymavlink.dialects.v20 import ardupilotmega as m2
-    return m2.MAVLink_statustext_message(SEVERITY.get(item.severity, 6), item.text.encode()[:50], 0, 0)
+def _statustext(item: StatusText, text_id: int) -> list[Any]:
+    """Return the MAVLink STATUSTEXT message(s) of one text (chunked beyond 50 characters)."""
+    from dip3d_vehicle.link.statustext import statustext_messages
+    return statustext_messages(SEVERITY.get(item.severity, 6), item.text, text_id)
 
 
 def _command_long(target_system: int, target_component: int, command: int, *params: float) -> Any:

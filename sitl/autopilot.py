@@ -27,11 +27,14 @@ from pymavlink.dialects.v20 import ardupilotmega as mavlink2
 
 from dip3d_vehicle.clock import Clock
 from dip3d_vehicle.config import load_params
+from dip3d_vehicle.link.statustext import statustext_messages
 
 from .dynamics import Dynamics, VehicleParams, VehicleState, wrap_pi
+from .mavftp import FtpServer
 from .mavlink_endpoint import Endpoint, Link
 from .modes import (MODE_NUMBERS, MODES, POSITION_MODES, ControlGains, Controller, GuidedTarget,
                     PilotInput, joystick_to_pwm)
+from .sys_status import sys_status_bits
 
 __all__ = ["Autopilot", "Event", "ARDUSUB_PARAMS", "DEFAULT_INTERVALS_S"]
 
@@ -127,6 +130,8 @@ class Autopilot:
         self.pilot = PilotInput()
         self.guided = GuidedTarget()
         self.events: list[Event] = []
+        self.ftp = FtpServer(lambda: self.ap_params, ARDUSUB_PARAMS)  # @PARAM/param.pck, as ArduSub serves it
+        self._text_id = 0  # STATUSTEXT id of the last chunked text
         self.counters: dict[str, int] = {"manual_control_ignored": 0, "setpoints_ignored": 0,
                                          "messages_in": 0}
         self._t0 = clock.now()
@@ -246,7 +251,9 @@ class Autopilot:
     def statustext(self, severity: int, text: str) -> None:
         """Send a STATUSTEXT on every link and record it as an event."""
         self._event("statustext", text)
-        self.endpoint.broadcast(M.MAVLink_statustext_message(severity, text.encode()[:50], 0, 0))
+        self._text_id = self._text_id % 65535 + 1
+        for msg in statustext_messages(severity, text, self._text_id):  # > 50 characters: chunks, as ArduPilot
+            self.endpoint.broadcast(msg)
 
     def close(self) -> None:
         """Close all sockets."""
@@ -427,6 +434,13 @@ class Autopilot:
         self.guided = g
         self._event("setpoint", (frame, mask))
 
+    def _on_file_transfer_protocol(self, link: Link, msg: Any, now: float) -> None:
+        if not self._for_me(msg.target_system):
+            return
+        sender = (msg.get_srcSystem(), msg.get_srcComponent())
+        for payload in self.ftp.handle(sender, bytes(msg.payload)):
+            link.send(M.MAVLink_file_transfer_protocol_message(0, sender[0], sender[1], list(payload)))
+
     def _param_value(self, name: str) -> Any:
         names = sorted(self.ap_params)
         return M.MAVLink_param_value_message(name.encode(), float(self.ap_params[name]),
@@ -521,8 +535,8 @@ class Autopilot:
             return M.MAVLink_heartbeat_message(M.MAV_TYPE_SUBMARINE, M.MAV_AUTOPILOT_ARDUPILOTMEGA, base,
                                                self.mode, M.MAV_STATE_ACTIVE if self.armed else M.MAV_STATE_STANDBY, 3)
         if msg_id == M.MAVLINK_MSG_ID_SYS_STATUS:
-            sensors = 0x0020_0000 | 0x1 | 0x2 | 0x4 | 0x8 | 0x20
-            return M.MAVLink_sys_status_message(sensors, sensors, sensors, 100, 16000, 100, 90, 0, 0, 0, 0, 0, 0)
+            present, enabled, health = sys_status_bits(self.mode, self.has_position)  # ArduSub's bits: no "fence breach"
+            return M.MAVLink_sys_status_message(present, enabled, health, 100, 16000, 100, 90, 0, 0, 0, 0, 0, 0)
         if msg_id == M.MAVLINK_MSG_ID_ATTITUDE:
             return M.MAVLink_attitude_message(t_ms, 0.0, 0.0, s.yaw_rad, 0.0, 0.0, s.r_rad_s)
         if msg_id == M.MAVLINK_MSG_ID_GLOBAL_POSITION_INT:

@@ -31,6 +31,7 @@ import json
 import math
 import statistics
 import sys
+from collections import Counter
 from concurrent.futures import ProcessPoolExecutor
 from typing import Any
 
@@ -90,17 +91,18 @@ def mission_campaign(per_position: int = 10, jobs: int = 2, max_seed: int = 200,
     for r in _pool_map([(s, None, {}) for s in seeds], jobs):
         runs.append(r)
         print(f"seed {r['seed']:3d} pos {r['diver_position']} target {r['target_id']} chosen {r['chosen_id']} "
-              f"arrived {r['arrived']} reached {r['reached']} t_arrive {r['time_to_arrive_s']} "
+              f"outcome {r['outcome']} t_arrive {r['time_to_arrive_s']} "
               f"range@arrival {r['range_at_arrival_m']} err {r['range_error_at_arrival_m']} "
               f"final {r['final_range_m']} px {r['final_pixel_error_px']} sim {r['sim_time_s']} "
               f"wall {r['wall_time_s']}", flush=True)
     summary: dict[str, Any] = {"runs": runs, "per_position": {}}
     for pos in positions:
         rs = [r for r in runs if r["diver_position"] == pos]
-        ok = [r for r in rs if r["reached"]]
+        ok = [r for r in rs if r["outcome"] == "reached"]
         summary["per_position"][pos] = {
             "seeds": [r["seed"] for r in rs], "reached": len(ok), "of": len(rs),
-            "wrong_target": sum(1 for r in rs if r["chosen_id"] not in (None, r["target_id"])),
+            "wrong_target": sum(1 for r in rs if r["outcome"] == "wrong_object"),
+            "outcomes": dict(Counter(r["outcome"] for r in rs)),
             "time_to_arrive_s": _stats([r["time_to_arrive_s"] for r in ok]),
             "range_error_at_arrival_m": _stats([r["range_error_at_arrival_m"] for r in ok]),
             "abs_range_error_at_arrival_m": _stats([abs(r["range_error_at_arrival_m"]) for r in ok]),
@@ -108,7 +110,8 @@ def mission_campaign(per_position: int = 10, jobs: int = 2, max_seed: int = 200,
             "final_pixel_error_px": _stats([r["final_pixel_error_px"] for r in ok]),
         }
     for pos, s in summary["per_position"].items():
-        print(f"diver position {pos}: reached {s['reached']} / {s['of']} (wrong target {s['wrong_target']})")
+        print(f"diver position {pos}: reached {s['reached']} / {s['of']} (wrong target {s['wrong_target']}; "
+              f"outcomes {s['outcomes']})")
         for k in ("time_to_arrive_s", "range_error_at_arrival_m", "abs_range_error_at_arrival_m",
                   "final_range_error_m", "final_pixel_error_px"):
             print(f"    {k}: {s[k]}")

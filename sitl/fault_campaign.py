@@ -705,13 +705,18 @@ def mission_campaign(seeds: int = 10, plan: str | Path = FAULT_DIR / "link_loss.
             runs.append(r)
             if verbose:
                 _print_mission(r)
-    arrived = sum(bool(r.get("reached")) for r in runs)
+    reached = sum(r.get("outcome") == "reached" for r in runs)
+    outcomes: dict[str, int] = {}
+    for r in runs:
+        word = "crashed" if r.get("crashed") else r.get("outcome", "?")
+        outcomes[word] = outcomes.get(word, 0) + 1
     return {"plan": str(plan), "seeds": seeds, "arrived": sum(bool(r.get("arrived")) for r in runs),
-            "reached": arrived, "crashes": sum(bool(r.get("crashed")) for r in runs), "runs": runs}
+            "reached": reached, "outcomes": outcomes, "crashes": sum(bool(r.get("crashed")) for r in runs),
+            "runs": runs}
 
 
 def _print_mission(r: dict) -> None:
-    print(f"seed {r['seed']} arrived {r.get('arrived')} reached {r.get('reached')} t {r.get('time_to_arrive_s')} "
+    print(f"seed {r['seed']} outcome {r.get('outcome')} t {r.get('time_to_arrive_s')} "
           f"sim {r.get('sim_time_s')} wall {r.get('wall_s')} log {r.get('log_written')} / {r.get('log_read')} "
           f"relay {r.get('relay')} dis {r.get('disengagements')} guard {r.get('guard_rejected')} "
           f"safety {r.get('fault_safety')} crash '{r.get('crashed', '')[:100]}'", flush=True)
@@ -776,8 +781,8 @@ def main(argv: list[str] | None = None) -> int:
         print(markdown_table(out["summary"]))
     elif args.what == "missions":
         out = mission_campaign(args.seeds, args.plan, args.jobs, first_seed=args.first_seed)
-        print(f"arrived {out['arrived']} / {out['seeds']}, reached the pointed placard {out['reached']} / "
-              f"{out['seeds']}, crashes {out['crashes']}")
+        print(f"reached the pointed placard {out['reached']} / {out['seeds']} (outcomes {out['outcomes']}; "
+              f"arrived anywhere {out['arrived']}), crashes {out['crashes']}")
     else:
         out = soak(args.hours, trace=args.trace)
         print(json.dumps({k: v for k, v in out.items() if k != "samples"}))

@@ -44,6 +44,7 @@ from .autopilot import Autopilot
 from .dynamics import VehicleState
 from .render import StereoRenderer
 from .scenario import Scenario, load_scenario
+from .outcome import mission_outcome
 
 __all__ = ["Router", "SimPilot", "Fault", "Received", "SimResult", "Simulation", "sim_params", "run_mission"]
 
@@ -177,6 +178,8 @@ class SimPilot:
         self.armed = False
         self.mode = ""
         self.statustexts: list[tuple[float, str]] = []
+        from dip3d_vehicle.link.statustext import StatusTextAssembler
+        self._texts = StatusTextAssembler()  # chunked STATUSTEXTs (id / chunk_seq) put back together
         # A pilot flying GUIDED has the joystick connected: it streams centred sticks (as QGC does),
         # which keeps ArduSub's pilot-input failsafe quiet; GUIDED ignores them. In ALT_HOLD the
         # controller's own MANUAL_CONTROL is the pilot input, and a second stream would fight it.
@@ -216,8 +219,9 @@ class SimPilot:
             self.armed = bool(msg.base_mode & m2.MAV_MODE_FLAG_SAFETY_ARMED)
             self.mode = {v: k for k, v in _MODES.items()}.get(msg.custom_mode, str(msg.custom_mode))
         elif kind == "STATUSTEXT":
-            text = msg.text if isinstance(msg.text, str) else msg.text.decode(errors="replace")
-            self.statustexts.append((now, f"{src[0]}/{src[1]}: {text.rstrip(chr(0))}"))
+            text = self._texts.add(msg)  # chunked texts (id / chunk_seq) put back together
+            if text is not None:
+                self.statustexts.append((now, f"{src[0]}/{src[1]}: {text}"))
         elif kind == "COMMAND_ACK" and getattr(msg, "target_system", GCS_SYSID) == GCS_SYSID:
             self.acks.append((now, msg.command, msg.result))
             if msg.command == MAV_CMD_USER_1 and src == (1, 191):
@@ -295,13 +299,16 @@ class SimResult:
     wall_time_s: float
     states: list[dict]
     story: list[str]
+    outcome: str = ""
+    outcome_reason: str = ""
     fault: dict | None = None
     safety: dict = field(default_factory=dict)
     counters: dict = field(default_factory=dict)
 
     def to_json(self) -> dict:
-        """Return the JSON object of ``dip3d-vehicle sitl --json``."""
+        """Return the JSON object of ``dip3d-vehicle sitl --json`` (``outcome``: see sitl/outcome.py)."""
         out = {k: getattr(self, k) for k in (
+            "outcome", "outcome_reason",
             "arrived", "target_id", "chosen_id", "final_range_m", "sim_time_s", "states", "scenario",
             "seed", "diver_position", "reached", "time_to_arrive_s", "final_range_error_m",
             "final_pixel_error_px", "range_at_arrival_m", "range_error_at_arrival_m", "wall_time_s", "counters")}
@@ -369,6 +376,7 @@ class Simulation:
         self.last_meta: dict = {}
         self.fault_at_s: float | None = None
         self.ticks: list[tuple[float, str, bool, bool]] = []
+        self.on_step: Any = None  # called with the sim time after every step (the live story printer)
 
     # -- autopilot-side counters ----------------------------------------------------------
     def _wrap_autopilot(self) -> None:
@@ -419,6 +427,8 @@ class Simulation:
                 self.router.step()
                 self.ticks.append((now, rec.state, rec.engaged, rec.command is not None and not rec.command.is_neutral()))
                 self._record(now, rec, observation, obs_meta)
+                if self.on_step is not None:
+                    self.on_step(now)
                 if self.mission.state == "done" and done_at is None:
                     done_at = now
                     self.range_at_arrival = self._true_range()
@@ -434,7 +444,7 @@ class Simulation:
             self.link.close()
             self.router.step()
             self.ap.step()
-        return self._result(time.perf_counter() - wall0)
+        return self._with_outcome(self._result(time.perf_counter() - wall0))
 
     def _capture(self, now: float):
         """Render the frame the camera sees now and process it (None while perception is stalled)."""
@@ -518,6 +528,16 @@ class Simulation:
         if chosen is None or not self.last_meta:
             return None
         return float(self.last_meta["placards"][chosen]["range_m"])
+
+    def _with_outcome(self, result: SimResult) -> SimResult:
+        """Set the result's one outcome word and its reason (sitl/outcome.py); ``reached`` is that word."""
+        outcome = mission_outcome(arrived=result.arrived, chosen_id=result.chosen_id, target_id=result.target_id,
+                                  range_error_at_arrival_m=result.range_error_at_arrival_m,
+                                  tolerance_m=self.mission.bb.config.arrive_tolerance_m,
+                                  states=[s for _, s in self.mission.history], sim_time_s=result.sim_time_s)
+        result.outcome, result.outcome_reason = outcome.word, outcome.reason
+        result.reached = outcome.word == "reached"
+        return result
 
     def _result(self, wall_s: float) -> SimResult:
         sc, bb = self.scenario, self.mission.bb

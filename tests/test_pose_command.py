@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+from pathlib import Path
 
 import cv2
 import numpy as np
@@ -45,3 +46,30 @@ def test_pose_bad_image_is_one_line_exit_2(tmp_path, capsys, content):
     assert main(["pose", str(path)]) == 2
     err = capsys.readouterr().err.strip()
     assert err.startswith("dip3d-vehicle pose: error:") and str(path) in err and "\n" not in err
+
+
+def test_pose_truncated_jpeg_is_one_line_exit_2(tmp_path, capfd):
+    sample = Path(__file__).resolve().parents[1] / "dip3d_vehicle" / "samples" / "left.jpg"
+    path = tmp_path / "cut.jpg"
+    path.write_bytes(sample.read_bytes()[:60000])  # cut mid-stream, as a copy interrupted
+    assert main(["pose", str(path)]) == 2
+    captured = capfd.readouterr()
+    assert captured.out == "" and "Premature end" not in captured.err
+    err = captured.err.strip()
+    assert err.startswith("dip3d-vehicle pose: error:") and str(path) in err and "\n" not in err
+
+
+def test_pose_annotate_writes_the_image_with_the_same_size(tmp_path, capsys):
+    sample = Path(__file__).resolve().parents[1] / "dip3d_vehicle" / "samples" / "left.jpg"
+    out = tmp_path / "pose.png"
+    assert main(["pose", str(sample), "--annotate", str(out), "--json"]) == 0
+    found = json.loads(capsys.readouterr().out)["found"]
+    img, src = cv2.imread(str(out)), cv2.imread(str(sample))
+    assert img.shape == src.shape and (img != src).any()  # something drawn ("no person found" or the arm)
+
+
+def test_pose_annotate_to_an_unwritable_name_is_one_line_exit_2(tmp_path, capsys):
+    sample = Path(__file__).resolve().parents[1] / "dip3d_vehicle" / "samples" / "left.jpg"
+    assert main(["pose", str(sample), "--annotate", str(tmp_path / "out.unknown")]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "out.unknown" in err and "\n" not in err

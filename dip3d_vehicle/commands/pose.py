@@ -4,13 +4,12 @@ from __future__ import annotations
 
 import argparse
 import json
-from pathlib import Path
 from typing import Any
 
 import cv2
 import numpy as np
 
-from ..errors import ImageError
+from ..perception.images import read_image as read_checked_image, write_image
 from ..perception.values import JOINTS
 from ._common import add_params_arguments, params_from_args
 
@@ -24,17 +23,38 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--arm", choices=["right", "left"], default=None,
                         help="arm to report (default: parameter pose.arm)")
     parser.add_argument("--json", action="store_true", help="print one JSON object")
+    parser.add_argument("--annotate", metavar="OUT.png", default=None,
+                        help="write the image with the arm's joints (and their confidence) drawn on it")
     add_params_arguments(parser)
 
 
 def read_image(path: str) -> np.ndarray:
-    """Return an image as HxWx3 uint8 BGR; raise ImageError naming the file when it cannot be read."""
-    if not Path(path).is_file():
-        raise ImageError(f"{path}: image file not found")
-    image = cv2.imread(path, cv2.IMREAD_COLOR)
-    if image is None or image.size == 0:
-        raise ImageError(f"{path}: not an image OpenCV can read")
-    return image
+    """Return an image as HxWx3 uint8 BGR; raise ImageError naming the file when it cannot be read.
+
+    The same reader as ``perceive``: a corrupt or truncated file is refused (one line, exit 2)
+    instead of being decoded in part.
+    """
+    return read_checked_image(path)
+
+
+def annotate_arm(image: np.ndarray, result: dict) -> np.ndarray:
+    """Return a copy of the image with the arm drawn: joints (with confidence) and the limb segments."""
+    img = image.copy()
+    scale = max(1, img.shape[1] // 800)
+    if not result["found"]:
+        cv2.putText(img, "no person found", (10, 30 * scale), cv2.FONT_HERSHEY_SIMPLEX, 0.8 * scale, (0, 0, 255),
+                    2 * scale)
+        return img
+    pts = [(int(round(x)), int(round(y))) for x, y, _ in result["keypoints"].values()]
+    cv2.polylines(img, [np.asarray(pts, np.int32)], False, (255, 255, 0), 2 * scale)
+    for (name, (x, y, c)), colour in zip(result["keypoints"].items(), ((0, 255, 255), (0, 165, 255), (0, 0, 255))):
+        centre = (int(round(x)), int(round(y)))
+        cv2.circle(img, centre, 5 * scale, colour, -1)
+        cv2.putText(img, f"{name} {c:.2f}", (centre[0] + 8 * scale, centre[1] - 8 * scale), cv2.FONT_HERSHEY_SIMPLEX,
+                    0.5 * scale, colour, max(1, scale))
+    cv2.putText(img, f"{result['arm']} arm, pose flag {result['pose_flag']:.2f}", (10, 30 * scale),
+                cv2.FONT_HERSHEY_SIMPLEX, 0.8 * scale, (255, 255, 255), 2 * scale)
+    return img
 
 
 def arm_result(landmarks: Any, arm: str) -> dict:
@@ -56,6 +76,8 @@ def run(args: argparse.Namespace) -> int:
     arm = args.arm or params["pose.arm"]
     image = read_image(args.image)
     result = arm_result(BlazePose.from_params(params).process(image), arm)
+    if args.annotate:
+        write_image(args.annotate, annotate_arm(image, result))
     if args.json:
         print(json.dumps(result))
     elif not result["found"]:

@@ -2,22 +2,28 @@
 
 The simulated pilot arms the vehicle, selects the engage mode and enables the controller; the
 diver points; the controller waits for the arm, confirms the point, selects the target by votes,
-nods, servoes to the stand-off and reports. Writes to ``--out`` (default ``sitl.out_dir``): the run
-record ``run.mcap`` (Foxglove; replayable: ``dip3d-vehicle replay``), the MAVLink log ``mav.tlog``, ``trajectory.png`` (top view and depth
-over time, placards and diver marked) and ``final_view.png`` (the last left frame, target marked).
-Exit code 0 whether or not the vehicle arrived; 2 on bad input.
+nods, servoes to the stand-off and reports. The story is printed as it happens (with a progress
+line on a terminal; nothing but one JSON object with ``--json``). Every run writes into its own new
+folder (``<sitl.out_dir>/<UTC time>_<scenario>_s<seed>/``, or ``--out`` if new or empty): the run
+record ``run.mcap`` (Foxglove; replayable: ``dip3d-vehicle replay``), the MAVLink log ``mav.tlog``,
+``trajectory.png`` (top view, depth and states over time) and ``final_view.png`` (the last left
+frame, target marked). The run ends in one outcome word (sitl/outcome.py); the exit code is 0 only
+for ``reached`` (3 wrong_object, 4 outside_tolerance, 5 not_arrived, 6 no_decision, 7 aborted,
+8 suspended); 2 on bad input.
 """
 
 from __future__ import annotations
 
 import argparse
-import sys
 import json
-import math
+import shutil
+import sys
 import tempfile
+import textwrap
 from pathlib import Path
 
 from ..errors import Dip3dError
+from ..run_folder import explicit_run_folder, new_run_folder
 from ._common import add_params_arguments, params_from_args
 from ._record import add_record_arguments, close_recorder, open_recorder
 
@@ -33,7 +39,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--json", action="store_true", help="print one JSON object with the outcome")
     parser.add_argument("--speed", type=float, default=None, metavar="X",
                         help="run at X times real time (default: as fast as possible)")
-    parser.add_argument("--out", metavar="DIR", default=None, help="output folder (default: sitl.out_dir)")
+    parser.add_argument("--out", metavar="DIR", default=None,
+                        help="output folder, new or empty (default: a new folder under sitl.out_dir)")
     parser.add_argument("--no-plots", action="store_true", help="do not write trajectory.png / final_view.png")
     parser.add_argument("--faults", metavar="FILE", default=None,
                         help="inject the faults of a fault plan (e.g. sitl/faults/link_cut.yaml): lossy link, "
@@ -47,6 +54,8 @@ def run(args: argparse.Namespace) -> int:
     from dip3d_vehicle.perception.calibration_io import write_opencv_calibration
     from sitl.scenario import load_scenario
     from sitl.fault_campaign import load_fault_plan, make_simulation
+    from sitl.live import LiveStory
+    from sitl.outcome import OUTCOME_EXIT_CODES
     from sitl.simulation import sim_params
 
     import logging
@@ -58,11 +67,10 @@ def run(args: argparse.Namespace) -> int:
         load_fault_plan(args.faults, seed=args.seed)  # a bad plan fails before anything starts
     scenario = load_scenario(args.scenario, args.seed)
     params = sim_params(params, scenario)
-    out = Path(args.out or params["sitl.out_dir"])
-    try:
-        out.mkdir(parents=True, exist_ok=True)
-    except OSError as exc:
-        raise Dip3dError(f"{out}: cannot create output folder ({exc.strerror})") from None
+    out = explicit_run_folder(args.out) if args.out else new_run_folder(params["sitl.out_dir"], scenario.name, args.seed)
+    if not args.json:
+        print(f"sitl: scenario {scenario.name} seed {args.seed}: diver at position {scenario.diver.position_name} "
+              f"points at placard {scenario.target_id}; writing {out}", flush=True)
     with tempfile.TemporaryDirectory() as tmp:
         calib_text = write_opencv_calibration(scenario.rig(params["calib.alpha"]), Path(tmp) / "calib.yaml").read_text()
     keep = params["runlog.keep_images_every"]
@@ -80,13 +88,16 @@ def run(args: argparse.Namespace) -> int:
         sim = make_simulation(scenario, params, args.faults, args.seed, speed=args.speed, log=log)
         log.rig = sim.rig
         log.attach_link(sim.link)
+        live = None if args.json else LiveStory(sim)
+        sim.on_step = live
         try:
             result = sim.run()
         finally:
             sim.close()
+            if live is not None:
+                live.finish()
         log.story(sim.link.events + sim.mission.bb.story)  # the lines of the link's close
-        log.event(f"t={result.sim_time_s:.2f} outcome: arrived={result.arrived} chosen={result.chosen_id} "
-                  f"target={result.target_id}")
+        log.event(f"t={result.sim_time_s:.2f} outcome {result.outcome}: {result.outcome_reason}")
     finally:
         close_recorder(log)
     if not args.no_plots:
@@ -95,29 +106,32 @@ def run(args: argparse.Namespace) -> int:
     if args.json:
         doc = result.to_json()
         doc["out_dir"] = str(out)
+        doc["exit_code"] = OUTCOME_EXIT_CODES[result.outcome]
         print(json.dumps(doc))
     else:
-        print_story(result, out)
-    return 0
+        print_outcome(result, out, plots=not args.no_plots)
+    return OUTCOME_EXIT_CODES[result.outcome]
 
 
-def print_story(result, out: Path) -> None:
-    """Print the run's story (time-stamped states and events) and its outcome."""
-    print(f"sitl: scenario {result.scenario} seed {result.seed}: diver at position {result.diver_position} "
-          f"points at placard {result.target_id}")
-    for line in result.story:
-        print("  " + (line[:160] + " ..." if len(line) > 170 else line))
-    if result.arrived:
-        which = "the pointed placard" if result.chosen_id == result.target_id else f"placard {result.chosen_id} (WRONG)"
-        print(f"sitl: ARRIVED at {which} {result.time_to_arrive_s:.1f} s into the run; true range at arrival "
-              f"{_fmt(result.range_at_arrival_m, 'm')} (error {_fmt(result.range_error_at_arrival_m, 'm')}), at the end "
-              f"{_fmt(result.final_range_m, 'm')}; {'within' if result.reached else 'OUTSIDE'} the stand-off tolerance")
-    else:
-        tracked = f"tracking placard {result.chosen_id}" if result.chosen_id is not None else "no target chosen"
-        print(f"sitl: did NOT arrive ({tracked}); pointed placard {result.target_id} at "
-              f"{_fmt(result.final_range_m, 'm')} at the end")
-    print(f"sitl: {result.sim_time_s:.1f} s simulated in {result.wall_time_s:.1f} s")
-    print(f"sitl: wrote {out / 'run.mcap'}, {out / 'mav.tlog'}, {out / 'trajectory.png'}, {out / 'final_view.png'}")
+def print_outcome(result, out: Path, plots: bool = True) -> None:
+    """Print the run's outcome (one word and its reason), the numbers behind it and the files written."""
+    from sitl.outcome import OUTCOME_EXIT_CODES
+
+    chosen = "none" if result.chosen_id is None else f"placard {result.chosen_id}"
+    arrival = (f" at {result.time_to_arrive_s:.1f} s, true range at arrival {_fmt(result.range_at_arrival_m, 'm')} "
+               f"(error {_fmt(result.range_error_at_arrival_m, 'm')})" if result.arrived else "")
+    end_of = chosen if result.chosen_id is not None else f"placard {result.target_id}"
+    lines = [f"sitl: outcome {result.outcome.upper()} (exit code {OUTCOME_EXIT_CODES[result.outcome]}): "
+             f"{result.outcome_reason}",
+             f"sitl: pointed placard {result.target_id}, chosen {chosen}; the mission arrived (state done): "
+             f"{'yes' if result.arrived else 'no'}{arrival}; at the end {_fmt(result.final_range_m, 'm')} from {end_of}",
+             f"sitl: {result.sim_time_s:.1f} s simulated in {result.wall_time_s:.1f} s",
+             "sitl: wrote " + ", ".join(str(out / f) for f in ["run.mcap", "mav.tlog"] + (["trajectory.png", "final_view.png"]
+                                                                             if plots else []))]
+    width = shutil.get_terminal_size((100, 24)).columns - 1 if sys.stdout.isatty() else 100
+    for line in lines:
+        print("\n".join(textwrap.wrap(line, max(40, width), subsequent_indent="      ", break_long_words=False,
+                                      break_on_hyphens=False)))
 
 
 def _fmt(v, unit: str) -> str:
@@ -125,55 +139,26 @@ def _fmt(v, unit: str) -> str:
 
 
 def write_trajectory_plot(sim, result, path: Path) -> None:
-    """Top view (north up, east right) with placards and diver, and depth over time with the states."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    """Top view with placards and diver, depth over time and the state lane (dip3d_vehicle.plots.plot_mission)."""
+    from ..plots import MissionPlacard, MissionPlot, plot_mission
 
-    traj = sim.trajectory
-    t = [r[0] for r in traj]
-    fig, (ax, ax2) = plt.subplots(1, 2, figsize=(12, 5.5), gridspec_kw={"width_ratios": [1.1, 1]})
-    ax.plot([r[2] for r in traj], [r[1] for r in traj], "-", color="tab:blue", label="vehicle")
-    for r in traj[:: max(1, len(traj) // 25)]:
-        ax.arrow(r[2], r[1], 0.15 * math.sin(r[4]), 0.15 * math.cos(r[4]), head_width=0.04, color="tab:blue", alpha=0.5)
-    for p in sim.scenario.placards:
-        n, e, _ = p.centre_ned_m
-        colour = "tab:green" if p.id == result.target_id else ("tab:gray" if p.role == "distractor" else "tab:orange")
-        ax.plot(e, n, "s", color=colour, ms=10)
-        ax.annotate(f"{p.id}" + (" (target)" if p.id == result.target_id else ""), (e, n), xytext=(6, 4),
-                    textcoords="offset points")
-    dn, de, _ = sim.scenario.diver.chest_ned_m
-    ax.plot(de, dn, "o", color="k", ms=9, label=f"diver (position {result.diver_position})")
-    ax.plot(traj[0][2], traj[0][1], "^", color="tab:blue", ms=8, label="start")
-    ax.set_xlabel("east (m)")
-    ax.set_ylabel("north (m)")
-    ax.set_aspect("equal", adjustable="datalim")
-    ax.grid(alpha=0.3)
-    ax.legend(loc="best", fontsize=8)
-    ax.set_title(f"{result.scenario} seed {result.seed}: {'arrived' if result.arrived else 'not arrived'}")
-    ax2.plot(t, [r[3] for r in traj], color="tab:blue", label="vehicle")
-    for p in sim.scenario.placards:
-        ax2.axhline(p.centre_ned_m[2], color="tab:green" if p.id == result.target_id else "tab:orange", lw=0.8,
-                    ls="--")
-    depths = [r[3] for r in traj] + [p.centre_ned_m[2] for p in sim.scenario.placards]
-    ax2.set_ylim(max(depths) + 0.2, min(depths) - 0.2)
-    ax2.set_xlabel("time (s)")
-    ax2.set_ylabel("depth (m)")
-    ax2.grid(alpha=0.3)
-    states = result.states
-    colours = plt.get_cmap("tab20")
-    names = sorted({s["state"] for s in states})
-    for i, s in enumerate(states):
-        end = states[i + 1]["t_s"] if i + 1 < len(states) else result.sim_time_s
-        ax2.axvspan(s["t_s"], end, color=colours(names.index(s["state"]) % 20), alpha=0.25, lw=0)
-        ax2.text(s["t_s"], ax2.get_ylim()[1], s["state"], rotation=90, va="top", fontsize=7)
-    fig.tight_layout()
-    fig.savefig(path, dpi=90)
-    plt.close(fig)
+    sc = sim.scenario
+    plot_mission(MissionPlot(
+        track=[tuple(r[:5]) for r in sim.trajectory],
+        placards=[MissionPlacard(p.id, *map(float, p.centre_ned_m), role=p.role) for p in sc.placards],
+        diver_north_east_m=(float(sc.diver.chest_ned_m[0]), float(sc.diver.chest_ned_m[1])),
+        states=[(s["t_s"], s["state"]) for s in result.states], sim_time_s=result.sim_time_s,
+        scenario=result.scenario, seed=result.seed, diver_position=result.diver_position,
+        target_id=result.target_id, chosen_id=result.chosen_id, outcome=result.outcome,
+        outcome_reason=result.outcome_reason), path)
 
 
 def write_final_view(sim, result, path: Path) -> None:
-    """Write the last left frame with the placards' outlines, the target and the tracked point."""
+    """Write the last left frame with the placards' outlines, the target and the tracked point.
+
+    The ids are written above each outline (not over the placard's own printed number); the time,
+    state, outcome and a key to the marks go in a band above the image.
+    """
     import cv2
     import numpy as np
 
@@ -181,21 +166,34 @@ def write_final_view(sim, result, path: Path) -> None:
     if frame is None:
         return
     img = frame.left.copy()
+    wrong = result.chosen_id is not None and result.chosen_id != result.target_id
     for pid, info in frame.meta["placards"].items():
         poly = info.get("left_polygon_px")
         if poly is None:
             continue
-        colour = (0, 200, 0) if pid == result.target_id else (0, 165, 255)
-        cv2.polylines(img, [np.asarray(poly, np.int32)], True, colour, 3)
-        c = np.mean(np.asarray(poly), axis=0).astype(int)
-        cv2.putText(img, str(pid), (int(c[0]) - 10, int(c[1]) - 20), cv2.FONT_HERSHEY_SIMPLEX, 1.2, colour, 3)
+        colour = (0, 200, 0) if pid == result.target_id else ((0, 0, 230) if wrong and pid == result.chosen_id
+                                                              else (0, 165, 255))
+        pts = np.asarray(poly, np.int32)
+        cv2.polylines(img, [pts], True, colour, 3)
+        x, y = int(pts[:, 0].min()), int(pts[:, 1].min())
+        label = f"{pid}" + (" pointed" if pid == result.target_id else (" WRONG" if wrong and pid == result.chosen_id
+                                                                          else ""))
+        cv2.putText(img, label, (x, max(30, y - 12)), cv2.FONT_HERSHEY_SIMPLEX, 0.9, colour, 2)
     target = sim.mission.bb.target
     if target is not None:
         u, v = sim.rig.to_original(target.left_px, "left")[0]
         cv2.drawMarker(img, (int(u), int(v)), (0, 0, 255), cv2.MARKER_CROSS, 40, 3)
     w, h = img.shape[1], img.shape[0]
     cv2.drawMarker(img, (w // 2, h // 2), (255, 255, 255), cv2.MARKER_SQUARE, 30, 1)
-    text = (f"t={result.sim_time_s:.1f}s state={sim.mission.state} target={result.target_id} "
-            f"chosen={result.chosen_id} range={_fmt(result.final_range_m, 'm')}")
-    cv2.putText(img, text, (20, 50), cv2.FONT_HERSHEY_SIMPLEX, 1.1, (255, 255, 255), 3)
+    band = np.zeros((130, w, 3), np.uint8)
+    ok = result.outcome == "reached"
+    for text, y, size, colour, thick in (
+            (f"{result.outcome.upper()}  t={result.sim_time_s:.1f}s state={sim.mission.state} pointed={result.target_id} "
+             f"chosen={result.chosen_id} range={_fmt(result.final_range_m, 'm')}", 50, 1.1,
+             (255, 255, 255) if ok else (80, 80, 255), 3),
+            ("green: pointed placard   red: chosen, wrong   orange: other placards   red +: tracked target   "
+             "white square: image centre", 105, 0.85, (220, 220, 220), 2)):
+        fit = min(size, size * (w - 40) / cv2.getTextSize(text, cv2.FONT_HERSHEY_SIMPLEX, size, thick)[0][0])
+        cv2.putText(band, text, (20, y), cv2.FONT_HERSHEY_SIMPLEX, fit, colour, thick)
+    img = np.vstack([band, img])
     cv2.imwrite(str(path), cv2.resize(img, None, fx=0.5, fy=0.5, interpolation=cv2.INTER_AREA))

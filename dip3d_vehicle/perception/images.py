@@ -9,7 +9,7 @@ import numpy as np
 
 from ..errors import ImageError
 
-__all__ = ["read_image", "check_pair"]
+__all__ = ["read_image", "write_image", "check_pair"]
 
 
 def read_image(path: str | Path) -> np.ndarray:
@@ -22,6 +22,19 @@ def read_image(path: str | Path) -> np.ndarray:
     if img is None:
         raise ImageError(f"{path}: not a readable image (corrupt or unsupported format)")
     return img
+
+
+def write_image(path: str | Path, image: np.ndarray) -> Path:
+    """Write an image (format from the extension); raise ImageError naming the file if it cannot."""
+    path = Path(path)
+    try:
+        ok = cv2.imwrite(str(path), image)
+    except cv2.error:
+        ok = False
+    if not ok:
+        raise ImageError(f"{path}: cannot write the image (folder missing, not writable, or an extension "
+                         f"OpenCV cannot write: use .png or .jpg)")
+    return path
 
 
 def check_pair(left: np.ndarray, right: np.ndarray, left_name: str, right_name: str) -> None:

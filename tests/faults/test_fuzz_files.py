@@ -31,9 +31,8 @@ FUZZ = dict(deadline=None, derandomize=True, database=None,
 COUNTS: dict[str, int] = {}
 
 
-def _report(name: str, capsys) -> None:
-    with capsys.disabled():
-        print(f"\n[fuzz] {name}: {COUNTS.get(name, 0)} inputs, 0 unhandled exceptions")
+def _report(name: str, summary) -> None:
+    summary(f"[fuzz] {name}: {COUNTS.get(name, 0)} inputs, 0 unhandled exceptions")
 
 
 def _mutate(data: bytes, seed: int, n: int) -> bytes:
@@ -91,9 +90,9 @@ def _params_case(tmp_path_factory, text):
             assert str(path) in str(exc) and "\n" not in str(exc).strip()
 
 
-def test_fuzz_parameter_files(tmp_path_factory, capsys):
+def test_fuzz_parameter_files(tmp_path_factory, summary):
     _params_case(tmp_path_factory)
-    _report("params", capsys)
+    _report("params", summary)
 
 
 # -------------------------------------------------------------------------------- calibration
@@ -125,9 +124,9 @@ def _calib_case(tmp_path_factory, case, size):
         assert "\n" not in str(exc).strip()
 
 
-def test_fuzz_calibration_files(tmp_path_factory, capsys):
+def test_fuzz_calibration_files(tmp_path_factory, summary):
     _calib_case(tmp_path_factory)
-    _report("calibration", capsys)
+    _report("calibration", summary)
 
 
 # -------------------------------------------------------------------------------- keypoints
@@ -159,6 +158,6 @@ def _keypoints_case(tmp_path_factory, raw):
         assert str(path) in str(exc)
 
 
-def test_fuzz_keypoints_files(tmp_path_factory, capsys):
+def test_fuzz_keypoints_files(tmp_path_factory, summary):
     _keypoints_case(tmp_path_factory)
-    _report("keypoints", capsys)
+    _report("keypoints", summary)

@@ -145,7 +145,7 @@ class _Controller:
         self.link.close()
 
 
-def _run_controller(signing: bool, tmp_path, capsys, examples: int) -> None:
+def _run_controller(signing: bool, tmp_path, summary, examples: int) -> None:
     ctl = _Controller(signing, tmp_path)
     name = f"VehicleLink ({'signing' if signing else 'no signing'})"
 
@@ -161,19 +161,18 @@ def _run_controller(signing: bool, tmp_path, capsys, examples: int) -> None:
             assert ctl.link.stats.rejected_unsigned + ctl.link.stats.rejected_bad_signature > 0
     finally:
         ctl.close()
-    with capsys.disabled():
-        print(f"\n[fuzz] {name}: {COUNTS[name]} inputs, 0 unhandled exceptions; stats {ctl.link.stats}")
+    summary(f"[fuzz] {name}: {COUNTS[name]} inputs, 0 unhandled exceptions; stats {ctl.link.stats}")
 
 
-def test_fuzz_vehicle_link_input(tmp_path, capsys):
-    _run_controller(False, tmp_path, capsys, 1500)
+def test_fuzz_vehicle_link_input(tmp_path, summary):
+    _run_controller(False, tmp_path, summary, 1500)
 
 
-def test_fuzz_vehicle_link_input_signed(tmp_path, capsys):
-    _run_controller(True, tmp_path, capsys, 1000)
+def test_fuzz_vehicle_link_input_signed(tmp_path, summary):
+    _run_controller(True, tmp_path, summary, 1000)
 
 
-def test_fuzz_autopilot_endpoint(capsys):
+def test_fuzz_autopilot_endpoint(summary):
     clock = SimClock()
     ap = Autopilot(load_params(), clock, listen=["tcp:127.0.0.1:0", "udpin:127.0.0.1:0", "udpin:127.0.0.1:0"],
                    signing_key=None)
@@ -225,7 +224,6 @@ def test_fuzz_autopilot_endpoint(capsys):
         udp.close()
         ap.close()
         signed.close()
-    with capsys.disabled():
-        print(f"\n[fuzz] {name}: {COUNTS[name]} inputs, 0 unhandled exceptions; autopilot messages accepted "
-              f"{counts[0]}, signed autopilot accepted {counts[1]} (unknown ids only), dropped unsigned/wrong key "
-              f"{counts[2]}")
+    summary(f"[fuzz] {name}: {COUNTS[name]} inputs, 0 unhandled exceptions; autopilot messages accepted "
+            f"{counts[0]}, signed autopilot accepted {counts[1]} (unknown ids only), dropped unsigned/wrong key "
+            f"{counts[2]}")

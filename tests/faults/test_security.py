@@ -155,7 +155,7 @@ def _attacks(mav) -> dict[str, list]:
 
 @pytest.mark.parametrize("attacker_key", [None, WRONG_KEY], ids=["unsigned", "wrong_key"])
 @pytest.mark.parametrize("output_mode", ["manual_control", "guided_velocity"])
-def test_unsigned_and_wrong_key_traffic_is_ignored(tmp_path, attacker_key, output_mode, capsys):
+def test_unsigned_and_wrong_key_traffic_is_ignored(tmp_path, attacker_key, output_mode, summary):
     rig = _rig(tmp_path, output_mode)
     try:
         _hand_over(rig, rig.link.config.engage_mode)
@@ -195,10 +195,9 @@ def test_unsigned_and_wrong_key_traffic_is_ignored(tmp_path, attacker_key, outpu
         dropped_ap = rig.ap.dropped_unsigned - ap_dropped0
         rejected_ctrl = rig.link.stats.rejected_unsigned + rig.link.stats.rejected_bad_signature - rej0
         attacker_links = {n for n, _, _ in rig.seen_by_ap[-2000:] if n.endswith(str(rig.attacker_port))}
-        with capsys.disabled():
-            print(f"\n[security {output_mode} {'unsigned' if attacker_key is None else 'wrong key'}] sent "
-                  f"{to_ap} to the autopilot, dropped {dropped_ap}; sent {to_ctrl} to the controller, "
-                  f"rejected {rejected_ctrl}; per type: {sent}")
+        summary(f"[security {output_mode} {'unsigned' if attacker_key is None else 'wrong key'}] sent "
+                f"{to_ap} to the autopilot, dropped {dropped_ap}; sent {to_ctrl} to the controller, "
+                f"rejected {rejected_ctrl}; per type: {sent}")
         # 100 % ignored, counted
         assert dropped_ap == to_ap
         assert rejected_ctrl == to_ctrl

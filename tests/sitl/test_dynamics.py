@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import csv
 import math
+import os
 from pathlib import Path
 
 import numpy as np
@@ -13,7 +14,8 @@ from dip3d_vehicle.config import load_params
 from sitl.dynamics import Dynamics, Forces, VehicleParams, VehicleState
 from sitl.modes import MODE_NUMBERS, Controller, ControlGains, GuidedTarget, PilotInput, joystick_to_pwm
 
-TRACES = Path(__file__).resolve().parents[2].parent / "shared" / "reference" / "ardusub_sitl_traces"
+SHARED = Path(os.environ.get("DIP3D_SHARED", Path(__file__).resolve().parents[2].parent / "shared"))
+TRACES = SHARED / "reference" / "ardusub_sitl_traces"
 DT = 0.01
 
 
@@ -25,7 +27,8 @@ def params():
 def _trace(name: str) -> dict[str, np.ndarray]:
     path = TRACES / f"{name}.csv"
     if not path.is_file():
-        pytest.skip(f"reference trace {path} not found")
+        pytest.skip(f"reference trace {path} not found (real ArduSub SITL traces are in the team's shared "
+                    f"folder: ../shared next to the clone, or set DIP3D_SHARED)")
     rows = list(csv.DictReader(path.open()))
     return {k: np.array([float(r[k]) for r in rows]) for k in rows[0]}
 

@@ -1,7 +1,9 @@
 """A real third-party ground station (MAVProxy) against the simulated autopilot over TCP.
 
 MAVProxy must identify an ArduSub vehicle (it names ArduSub's modes), change mode, arm, and show
-the refusal of GUIDED without a position estimate as ArduSub words it.
+the refusal of GUIDED without a position estimate as ArduSub words it. With MAVProxy's default
+modules (as a user starts it) it must fetch the parameters by MAVLink FTP as from ArduSub, and
+never report a fence breach or an FTP time-out.
 """
 
 from __future__ import annotations
@@ -46,9 +48,9 @@ class _Running:
 class _Proc:
     """MAVProxy with its stdout read by a thread, so waiting on text is bounded."""
 
-    def __init__(self, url: str) -> None:
+    def __init__(self, url: str, modules: str | None = "cmdlong,mode,arm") -> None:
         self.p = subprocess.Popen(
-            [MAVPROXY, f"--master={url}", "--no-state", "--default-modules=cmdlong,mode,arm"],
+            [MAVPROXY, f"--master={url}", "--no-state"] + ([f"--default-modules={modules}"] if modules else []),
             stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, bufsize=1)
         self.text = ""
         self._q: queue.Queue[str] = queue.Queue()
@@ -97,6 +99,28 @@ def test_mavproxy_sees_ardusub_changes_mode_arms_and_gets_refusal():
         assert sim.ap.mode == 2
         mp.send("disarm")
         assert mp.wait_for("AP: Disarming motors"), mp.text
+    finally:
+        mp.close()
+        sim.close()
+
+
+def test_mavproxy_default_modules_fetch_params_by_ftp_without_fence_breach_or_timeout():
+    from sitl.autopilot import ARDUSUB_PARAMS
+
+    sim = _Running()
+    mp = _Proc(sim.ap.addresses[0], modules=None)  # every default module, as a user runs it: ftp, param, fence
+    try:
+        assert mp.wait_for("Detected vehicle 1:1", f"Received {len(ARDUSUB_PARAMS)} parameters (ftp)",
+                           timeout_s=30), mp.text
+        mp.send("mode ALT_HOLD")  # depth / XY control bits become enabled in SYS_STATUS
+        assert mp.wait_for("Mode ALT_HOLD"), mp.text
+        mp.send("param show SYSID_MYGCS")
+        assert mp.wait_for("SYSID_MYGCS      255"), mp.text
+        time.sleep(3.0)  # SYS_STATUS at 2 Hz: several more after the mode change
+        mp.wait_for("never printed", timeout_s=0.5)  # collect what arrived meanwhile
+        assert "fence breach" not in mp.text, mp.text
+        assert "timed out" not in mp.text, mp.text
+        print(mp.text)  # the transcript (pytest -s shows it)
     finally:
         mp.close()
         sim.close()
