@@ -336,12 +336,16 @@ class OpenSet:
         gate_sigmas: an object farther than this many sigmas from the arm's direction IN THE LEFT
             IMAGE (or behind the wrist there) can never be chosen, whatever the 3D fit says.
         gate_min_rad: the image gate is never narrower than this, radians.
+        none_min_probability: "nothing detected" is the answer only at or above this probability
+            (telling the diver "nothing there" needs confidence too); below it, when it merely
+            leads, the best object is returned flagged ambiguous.
     """
 
-    none_prior: float = 0.3
+    none_prior: float = 0.25
     none_solid_angle_sr: float = 1.0
     gate_sigmas: float = 4.0
     gate_min_rad: float = 0.26
+    none_min_probability: float = 0.75
 
 
 def image_gate(arm: ArmKeypoints, objects: list[ObjectCandidate], points_px: list[np.ndarray], rig: StereoRig,
@@ -421,7 +425,7 @@ class DefaultSelector(PointingSelector):
         margin = (ranked[0] - ranked[1]) if len(ranked) > 1 else math.inf
         # "nothing detected" is the answer when it is the confident winner (or no object is allowed);
         # when it merely leads, the best object is returned flagged ambiguous: no decision either way
-        if not np.isfinite(log_odds[best]) or (p_none >= post[best] and p_none >= self.min_confidence):
+        if not np.isfinite(log_odds[best]) or (p_none >= post[best] and p_none >= self.open_set.none_min_probability):
             why = (f"the arm points at nothing detected (P {p_none:.2f}); best object P {post[best]:.2f}"
                    if np.isfinite(log_odds[best]) else
                    f"the arm points at nothing detected: every object lies outside the arm's direction in the image")
@@ -466,7 +470,8 @@ def arm_model_from_params(params: Mapping) -> ArmModel:
 def open_set_from_params(params: Mapping) -> OpenSet:
     """Return the default selector's "nothing detected" hypothesis from ``selection.*`` parameters."""
     return OpenSet(params["selection.none_prior"], params["selection.none_solid_angle_sr"],
-                   params["selection.gate_sigmas"], params["selection.gate_min_rad"])
+                   params["selection.gate_sigmas"], params["selection.gate_min_rad"],
+                   params["selection.none_min_probability"])
 
 
 def make_selector(params: Mapping) -> PointingSelector:
