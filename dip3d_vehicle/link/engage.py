@@ -41,6 +41,8 @@ class EngageInputs:
         output_problem: why the output path cannot be used ("" when it can).
         autopilot_steady: the autopilot has been heard without a gap for a while, i.e. its
             message stream is fast enough for the liveness timeout (a bare 1 Hz HEARTBEAT is not).
+        gcs_quiet: the ground station's HEARTBEAT is overdue (not yet lost): hold, so that the stop
+            stream ends before the loss, after which nothing may carry the GCS's system id.
     """
 
     autopilot_alive: bool
@@ -53,6 +55,7 @@ class EngageInputs:
     perception_fresh: bool = True
     output_problem: str = ""
     autopilot_steady: bool = True
+    gcs_quiet: bool = False
 
     @property
     def in_handover(self) -> bool:
@@ -102,6 +105,8 @@ def blockers(inp: EngageInputs) -> list[str]:
             out.append("autopilot messages come slower than the liveness timeout (is the ATTITUDE stream running?)")
     if inp.gcs_required and not inp.gcs_alive:
         out.append("ground station not heard")
+    elif inp.gcs_required and inp.gcs_quiet:
+        out.append("ground station quiet")
     if not inp.operator_enabled:
         out.append("not enabled by the operator")
     if inp.output_problem:

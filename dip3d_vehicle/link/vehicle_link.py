@@ -14,7 +14,13 @@ Identity: our own HEARTBEAT (1 Hz) from ``link.system_id`` / ``link.component_id
 computer), type ONBOARD_CONTROLLER, autopilot INVALID. In ``manual_control`` mode, and only
 there, MANUAL_CONTROL goes out with the autopilot's SYSID_MYGCS as system id, because ArduSub drops
 pilot input from any other system; nothing else is ever sent with that id (see ``open()``'s
-warning).
+warning), and not even MANUAL_CONTROL while the ground station is lost: from ``link.gcs_timeout_s``
+of GCS silence until a GCS HEARTBEAT is heard again, no message carries its id (not the stop
+stream, not ``close()``, not after a reconnect), because ArduSub counts any MANUAL_CONTROL from that
+id as ground-station contact and would clear its own GCS failsafe. So that the neutral sticks still
+reach the autopilot, the link already disengages ("ground station quiet", a hold) when the GCS
+HEARTBEAT is overdue by ``gcs_timeout_s - stop_zero_s`` (at least half the timeout): the stop
+stream ends by the time the GCS is declared lost.
 
 Liveness: ArduSub's HEARTBEAT is 1 Hz, too slow for "stop within 1 s of losing the autopilot".
 The link asks for ATTITUDE at ``link.rate.attitude_hz`` (10 Hz) with SET_MESSAGE_INTERVAL and
@@ -219,7 +225,8 @@ class VehicleLink:
                 f"(the autopilot's SYSID_MYGCS; {c.gcs_system_id} until it has been read), because ArduSub "
                 "drops pilot input from any other system. ArduSub counts it as ground-station contact, so "
                 "this controller watches the ground station's HEARTBEAT itself and stops sending "
-                f"MANUAL_CONTROL within {c.gcs_timeout_s + c.stop_zero_s:g} s of losing it, leaving the "
+                f"MANUAL_CONTROL {self._gcs_quiet_s():g} s after its last HEARTBEAT (neutral until "
+                f"{c.gcs_timeout_s:g} s, then nothing with its id until it is heard again), leaving the "
                 "autopilot's GCS failsafe to act. Nothing else (no HEARTBEAT) is ever sent with that id; "
                 f"this controller's own id is {c.system_id}/{c.component_id}.")
         self._send_heartbeat()
@@ -233,6 +240,9 @@ class VehicleLink:
                 self._send_stop()
         if self._engaged:
             self._set_engaged(False, "link closed")
+        if self.stats.gcs_id_withheld:
+            self._event(f"{self.stats.gcs_id_withheld} MANUAL_CONTROL withheld: the ground station was lost, "
+                        f"its system id is used only while it is heard")
         self._event("closed")
         try:
             self._conn.close()
@@ -426,6 +436,8 @@ class VehicleLink:
         self._prev_inputs = inputs
         if decision.latched and self._enabled:
             self._event(f"operator enable cleared: {decision.reason}")
+        if decision.latched and not self._engaged:
+            self.disengage_reason = decision.reason  # e.g. "ground station quiet" became "... lost"
         self._enabled = decision.operator_enabled
         self.not_engaged_reason = decision.reason
         if decision.engaged != self._engaged:
@@ -448,7 +460,23 @@ class VehicleLink:
             mode=self.autopilot.mode, engage_mode=c.engage_mode, operator_enabled=self._enabled,
             gcs_alive=self.gcs.alive(now, c.gcs_timeout_s), gcs_required=c.require_gcs,
             perception_fresh=perception_fresh, output_problem=self.output_problem(),
-            autopilot_steady=self.autopilot.steady(now, c.autopilot_timeout_s, _STEADY_S))
+            autopilot_steady=self.autopilot.steady(now, c.autopilot_timeout_s, _STEADY_S),
+            gcs_quiet=self.gcs.seen and not self.gcs.alive(now, self._gcs_quiet_s()))
+
+    def _gcs_quiet_s(self) -> float:
+        """GCS silence after which the link holds, so the stop stream ends before the GCS is lost."""
+        c = self.config
+        return max(c.gcs_timeout_s - c.stop_zero_s, 0.5 * c.gcs_timeout_s)
+
+    def gcs_id_allowed(self, now: float) -> bool:
+        """Return True when MANUAL_CONTROL may carry the ground station's system id now.
+
+        Only while the ground station is heard (its HEARTBEAT within ``link.gcs_timeout_s``); with
+        ``link.require_gcs`` off also before any ground station was ever heard.
+        """
+        if self.gcs.seen:
+            return self.gcs.alive(now, self.config.gcs_timeout_s)
+        return not self.config.require_gcs
 
     def output_problem(self) -> str:
         """Return why the output path cannot be used now ("" when it can)."""
@@ -530,7 +558,15 @@ class VehicleLink:
             m.MAV_TYPE_ONBOARD_CONTROLLER, m.MAV_AUTOPILOT_INVALID, 0, 0, status, 3))
 
     def _send_manual_control(self, sticks: ManualControl) -> None:
-        """MANUAL_CONTROL with the ground station's system id (ArduSub's rule); buttons always 0."""
+        """MANUAL_CONTROL with the ground station's system id (ArduSub's rule); buttons always 0.
+
+        Withheld (and counted) while the ground station is lost: see ``gcs_id_allowed``.
+        """
+        if self._conn is None:
+            return
+        if not self.gcs_id_allowed(self.clock.now()):
+            self.stats.gcs_id_withheld += 1
+            return
         if self._gcs_mav is None or self._gcs_mav.srcSystem != self.gcs.sysid:
             self._gcs_mav = gcs_encoder(self._conn, self.gcs.sysid, self.config.component_id)
         self._sent_setpoints = True
