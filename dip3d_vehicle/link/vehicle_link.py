@@ -38,6 +38,11 @@ MANUAL_CONTROL for 3 s after the stream stops; silence afterwards hands the stic
 pilot's own joystick (which also sends MANUAL_CONTROL from SYSID_MYGCS and would otherwise fight
 ours) and lets the autopilot's own failsafes act. The link never sends a non-neutral command while
 disengaged. See ``engage.py`` for when it engages and the re-engage (enable latch) policy.
+
+Perception: a stale tick (the caller's flag, or the stamp older than ``link.perception_timeout_s``)
+disengages on that tick. To (re-)engage, perception must have been fresh without a break for 0.4 s
+("perception starting" until then), so a just-started or flickering pipeline holds instead of
+flipping engaged / disengaged (seen at the start of ``run`` on 2 cores).
 """
 
 from __future__ import annotations
@@ -72,6 +77,7 @@ _STOP_REPEAT_ON_CLOSE = 3
 _MAX_MESSAGES_PER_POLL = 2000
 _INTERVAL_TRIES = 3
 _STEADY_S = 1.0  # engage only after the autopilot was heard without a gap for this long
+_PERCEPTION_SETTLE_S = 0.4  # (re-)engage only after perception was fresh without a break for this long
 
 
 @dataclass(frozen=True)
@@ -179,6 +185,7 @@ class VehicleLink:
         self._intervals_pending: deque[list] = deque()
         self._sent_setpoints = False
         self._tcp_dead_since: float | None = None
+        self._fresh_since: float | None = None
         self._last_unsigned_calls = 0
         self._bad_sig_base = 0
 
@@ -431,6 +438,10 @@ class VehicleLink:
         self._maybe_reconnect_tcp(now)
         fresh = perception_fresh and (perception_stamp_s is None
                                       or now - perception_stamp_s <= self.config.perception_timeout_s)
+        if not fresh:
+            self._fresh_since = None
+        elif self._fresh_since is None:
+            self._fresh_since = now
         inputs = self._inputs(now, fresh)
         decision = decide(self._prev_inputs, inputs)
         self._prev_inputs = inputs
@@ -461,7 +472,8 @@ class VehicleLink:
             gcs_alive=self.gcs.alive(now, c.gcs_timeout_s), gcs_required=c.require_gcs,
             perception_fresh=perception_fresh, output_problem=self.output_problem(),
             autopilot_steady=self.autopilot.steady(now, c.autopilot_timeout_s, _STEADY_S),
-            gcs_quiet=self.gcs.seen and not self.gcs.alive(now, self._gcs_quiet_s()))
+            gcs_quiet=self.gcs.seen and not self.gcs.alive(now, self._gcs_quiet_s()),
+            perception_steady=self._fresh_since is not None and now - self._fresh_since >= _PERCEPTION_SETTLE_S - 1e-9)
 
     def _gcs_quiet_s(self) -> float:
         """GCS silence after which the link holds, so the stop stream ends before the GCS is lost."""
