@@ -186,6 +186,7 @@ class VehicleLink:
         self._sent_setpoints = False
         self._tcp_dead_since: float | None = None
         self._fresh_since: float | None = None
+        self.firmware = "4.5"  # which stick tables: "4.7" once the autopilot answers MAV_GCS_SYSID
         self._last_unsigned_calls = 0
         self._bad_sig_base = 0
 
@@ -382,6 +383,10 @@ class VehicleLink:
         if value != self.gcs.sysid and self._gcs_mav is not None:
             self._gcs_mav = None
         self.gcs = replace(self.gcs, sysid=value, sysid_from_autopilot=True)
+        firmware = "4.7" if name == "MAV_GCS_SYSID" else "4.5"
+        if firmware != self.firmware:
+            self._event(f"{name} answered: ArduSub {firmware} stick tables")
+            self.firmware = firmware
         self._param_first_s = None
         if value == self.config.system_id and self.config.output_mode == "manual_control":
             self._warn(f"{name} = {value} is this controller's own system id (link.system_id): MANUAL_CONTROL "
@@ -521,7 +526,7 @@ class VehicleLink:
         if self._engaged:
             cmd = command if command is not None else VelocityCommand()
             if self.config.output_mode == "manual_control":
-                self._send_manual_control(manual_control_from_velocity(cmd))
+                self._send_manual_control(manual_control_from_velocity(cmd, self.firmware))
             else:
                 self._send_guided(guided_from_velocity(cmd))
         elif self._stop_until_s is not None:
