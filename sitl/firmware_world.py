@@ -42,7 +42,7 @@ from .render import StereoRenderer
 from .scenario import Scenario
 from .simulation import Received, Router, SimPilot, Simulation, _Peer
 
-__all__ = ["FirmwareVehicle", "FirmwareRouter", "FirmwareSimulation"]
+__all__ = ["FirmwareVehicle", "FirmwareRouter", "FirmwareSimulation", "make_firmware_simulation"]
 
 EARTH_RADIUS_M = 6378137.0
 HARNESS_SYSID, HARNESS_COMPID = 250, 190  # the simulation's own requests (SIM_STATE interval)
@@ -246,3 +246,12 @@ class FirmwareSimulation(Simulation):
             self.sitl.stop()
         finally:
             super().close()
+
+
+def make_firmware_simulation(scenario: Scenario, params: Mapping[str, Any], binary: str, fault=None,
+                             log: Any = None) -> FirmwareSimulation:
+    """For ``dip3d-vehicle sitl --ardusub PATH``: check the binary (one clear FirmwareError), then start it."""
+    from .ardusub_sitl import resolve_binary
+    path = resolve_binary(binary)
+    return FirmwareSimulation(scenario, params, path, speedup=float(params["sitl.ardusub_speedup"]),
+                              instance=int(params["sitl.ardusub_instance"]), fault=fault, log=log)

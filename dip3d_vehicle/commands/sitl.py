@@ -36,6 +36,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--faults", metavar="FILE", default=None,
                         help="inject the faults of a fault plan (e.g. sitl/faults/link_cut.yaml): lossy link, "
                              "autopilot reboot, pilot actions, ground-station loss, camera faults")
+    parser.add_argument("--ardusub", metavar="PATH", default=None,
+                        help="fly against this ArduSub SITL binary instead of the built-in autopilot "
+                             "(wall-clock time; see sitl.ardusub_speedup)")
     add_params_arguments(parser)
 
 
@@ -69,7 +72,12 @@ def run(args: argparse.Namespace) -> int:
     meta = {"command": "sitl", "scenario": scenario.name, "seed": args.seed, "calib_opencv_yaml": calib_text,
             "image_size": list(scenario.camera.image_size), "target_id": scenario.target_id}
     with RunLogWriter(out / "run.log", params, meta, keep_images_every=keep, overwrite=True) as log:
-        sim = make_simulation(scenario, params, args.faults, args.seed, speed=args.speed, log=log)
+        ardusub = args.ardusub or params["sitl.ardusub_path"]
+        if ardusub:
+            from sitl.firmware_world import make_firmware_simulation
+            sim = make_firmware_simulation(scenario, params, ardusub, log=log)
+        else:
+            sim = make_simulation(scenario, params, args.faults, args.seed, speed=args.speed, log=log)
         try:
             result = sim.run()
         finally:
