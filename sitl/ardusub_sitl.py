@@ -68,6 +68,7 @@ class SitlOptions:
         home: lat, lng, alt m, heading deg.
         defaults: the parameter defaults file (default: ``sub.parm`` next to the binary).
         model: the SITL frame model.
+        extra_params: parameters set at boot on top of the defaults file (written to an extra defaults file).
     """
 
     binary: Path
@@ -76,6 +77,7 @@ class SitlOptions:
     home: tuple[float, float, float, float] = DEFAULT_HOME
     defaults: Path | None = None
     model: str = "vectored"
+    extra_params: tuple[tuple[str, float], ...] = ()
 
 
 class ArdusubSitl:
@@ -102,7 +104,12 @@ class ArdusubSitl:
         """The command line for SERIAL0 connecting to ``port`` and the RC input on ``rc_port``."""
         o = self.options
         lat, lng, alt, hdg = o.home
-        return [str(o.binary), "--model", o.model, "--speedup", f"{o.speedup:g}", "--defaults", str(self.defaults),
+        defaults = str(self.defaults)
+        if o.extra_params:
+            extra = self.workdir / "extra.parm"
+            extra.write_text("".join(f"{k} {v:g}\n" for k, v in o.extra_params))
+            defaults += f",{extra}"
+        return [str(o.binary), "--model", o.model, "--speedup", f"{o.speedup:g}", "--defaults", defaults,
                 "-I", str(o.instance), "--home", f"{lat},{lng},{alt:g},{hdg:g}", "-w",
                 "--serial0", f"tcpclient:127.0.0.1:{port}", "--serial1", "none", "--serial2", "none",
                 "--rc-in-port", str(rc_port)]

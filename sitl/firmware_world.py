@@ -5,9 +5,16 @@ pilot/GCS (SimPilot), the controller's real VehicleLink and Mission, the stereo 
 autopilot is the ArduSub SITL binary (sitl/ardusub_sitl.py, loopback only) and the camera is rendered
 from the firmware's own simulated vehicle (SIM_STATE: the SITL physics' truth, asked for at 50 Hz).
 
-World frame: the firmware starts at home = (fixed lat/lng, altitude = -start depth, heading = start
-yaw), so SIM_STATE maps into the scenario's world frame at the start pose by a flat-earth offset:
-north = start north + dlat * R, east = start east + dlon * R cos(lat0), depth = -alt, yaw = yaw.
+World frame: the firmware's pose when the hand-over starts (after the dive below) is the scenario's
+start pose; SIM_STATE maps into the scenario's world frame from there: the flat-earth displacement
+(dlat * R, dlon * R cos(lat0)) rotated by (start yaw - firmware yaw at the reference), depth = start
+depth + (firmware depth - its depth at the reference), yaw = firmware yaw + the same rotation. ArduSub measures
+depth from its barometer as calibrated at boot, and will not rise above that "surface": started
+below the surface it cannot climb (seen: z = 760 gave 0.00 m/s, z = 1000 stalled). So it boots at
+the surface and the harness first dives it, as a pilot would, to the start depth (ALT_HOLD, armed
+as the ground station, z = 250 until there), then disarms and returns to MANUAL; the simulated pilot
+then hands over as in the built-in simulation. The dive costs ~8 s of wall time (arming is refused
+for the first ~4 s after boot).
 
 Time: the firmware runs its own physics in wall-clock time x ``--speedup``; the loop's SimClock
 follows the wall clock x speedup (when the loop falls behind, the clock jumps to catch up, so the
@@ -56,6 +63,7 @@ class FirmwareVehicle:
                  clock: SimClock) -> None:
         self.sitl, self.start, self.clock = sitl, start, clock
         self.lat0, self.lon0 = lat0_deg, lon0_deg
+        self.ref: Any = None  # the SIM_STATE that is the scenario's start pose (set by the first one)
         self.state = start
         self.armed = False
         self.mode = 19
@@ -92,16 +100,20 @@ class FirmwareVehicle:
 
     def _map(self, msg: Any) -> VehicleState:
         """SIM_STATE (lat/lon deg, alt m, yaw rad, vn/ve/vd m/s, zgyro) -> the scenario's world frame."""
-        lat, lon = float(msg.lat_int) * 1e-7, float(msg.lon_int) * 1e-7
-        if msg.lat_int == 0 and msg.lon_int == 0:
-            lat, lon = float(msg.lat), float(msg.lon)
-        north = self.start.north_m + math.radians(lat - self.lat0) * EARTH_RADIUS_M
-        east = self.start.east_m + math.radians(lon - self.lon0) * EARTH_RADIUS_M * math.cos(math.radians(self.lat0))
-        yaw = float(msg.yaw)
-        c, s = math.cos(yaw), math.sin(yaw)
+        if self.ref is None:
+            self.ref = msg
+        ref, st = self.ref, self.start
+        dn = math.radians((msg.lat_int - ref.lat_int) * 1e-7) * EARTH_RADIUS_M
+        de = math.radians((msg.lon_int - ref.lon_int) * 1e-7) * EARTH_RADIUS_M * math.cos(math.radians(self.lat0))
+        turn = st.yaw_rad - float(ref.yaw)
+        ct, sn = math.cos(turn), math.sin(turn)
+        north, east = st.north_m + dn * ct - de * sn, st.east_m + dn * sn + de * ct
+        depth = st.depth_m + (float(ref.alt) - float(msg.alt))
+        yaw = math.remainder(float(msg.yaw) + turn, math.tau)
+        c, s = math.cos(float(msg.yaw)), math.sin(float(msg.yaw))
         u = msg.vn * c + msg.ve * s
         v = -msg.vn * s + msg.ve * c
-        return VehicleState(north_m=north, east_m=east, depth_m=-float(msg.alt), yaw_rad=yaw, u_m_s=u, v_m_s=v,
+        return VehicleState(north_m=north, east_m=east, depth_m=depth, yaw_rad=yaw, u_m_s=u, v_m_s=v,
                             w_m_s=float(msg.vd), r_rad_s=float(msg.zgyro))
 
     def close(self) -> None:
@@ -126,6 +138,11 @@ class FirmwareRouter(Router):
         self._tap = m2.MAVLink(None)
         self._tap.robust_parsing = True
         self._harness = m2.MAVLink(None, srcSystem=HARNESS_SYSID, srcComponent=HARNESS_COMPID)
+        self._joystick = m2.MAVLink(None, srcSystem=255, srcComponent=190)
+
+    def pilot_neutral_sticks(self) -> None:
+        """One neutral MANUAL_CONTROL from the pilot's joystick (255/190), straight to the firmware."""
+        self.autopilot.write(m2.MAVLink_manual_control_message(1, 0, 0, 500, 0, 0).pack(self._joystick))
 
     def request_sim_state(self, hz: float = SIM_STATE_HZ) -> None:
         """Ask the firmware for SIM_STATE (the simulator's truth) at ``hz``, as the harness."""
@@ -199,14 +216,15 @@ class FirmwareSimulation(Simulation):
         v = scenario.initial_vehicle_pose
         start = VehicleState(north_m=v.north_m, east_m=v.east_m, depth_m=v.depth_m, yaw_rad=v.yaw_rad)
         lat0, lon0 = DEFAULT_HOME[0], DEFAULT_HOME[1]
-        home = (lat0, lon0, -v.depth_m, math.degrees(v.yaw_rad) % 360.0)
+        home = (lat0, lon0, 0.0, math.degrees(v.yaw_rad) % 360.0)
         self.sitl = ArdusubSitl(SitlOptions(binary, instance=instance, speedup=speedup, home=home))
         self.received: list[Received] = []
         sock = self.sitl.start()
         try:
+            self.dive_s = pre_dive(sock, v.depth_m)
             self.ap = FirmwareVehicle(self.sitl, start, lat0, lon0, self.clock)
             self.router = FirmwareRouter(sock, self.ap, self.received)
-            self.router.request_sim_state()
+            self.router.request_sim_state()  # (again: the dive asked too)
             self.router.step()
             self.link = VehicleLink(params.with_overrides({"link.url": self.router.address}, "sitl router"),
                                     self.clock)
@@ -232,9 +250,22 @@ class FirmwareSimulation(Simulation):
         self.fault_at_s: float | None = None
         self.ticks: list[tuple[float, str, bool, bool]] = []
         self._wall0: float | None = None
+        self._next_sticks_s = 0.0
+        self._controller_had_sticks = False
 
     def _step_dt(self, dt: float) -> float:
-        """Follow the wall clock x speedup: at least ``dt``, more when the loop fell behind."""
+        """Follow the wall clock x speedup: at least ``dt``, more when the loop fell behind.
+
+        Until the controller first engages, the pilot's joystick streams neutral sticks (10 Hz), as
+        QGroundControl does: the firmware's pilot-input failsafe ("Lost manual control", disarm) acts
+        3 s after the last MANUAL_CONTROL, and the dive's ended before the hand-over.
+        """
+        now = self.clock.now()
+        if not self._controller_had_sticks:
+            self._controller_had_sticks = self.link.engaged
+            if not self._controller_had_sticks and now >= self._next_sticks_s:
+                self.router.pilot_neutral_sticks()
+                self._next_sticks_s = now + 0.1
         if self._wall0 is None:
             self._wall0 = time.perf_counter() - self.clock.now() / self.speed
         behind = (time.perf_counter() - self._wall0) * self.speed - self.clock.now()
@@ -255,3 +286,53 @@ def make_firmware_simulation(scenario: Scenario, params: Mapping[str, Any], bina
     path = resolve_binary(binary)
     return FirmwareSimulation(scenario, params, path, speedup=float(params["sitl.ardusub_speedup"]),
                               instance=int(params["sitl.ardusub_instance"]), fault=fault, log=log)
+
+
+def pre_dive(sock: socket.socket, depth_m: float, timeout_s: float = 60.0) -> float:
+    """As the pilot (255/190): arm in ALT_HOLD, dive to ``depth_m`` (SIM_STATE), hold, disarm, MANUAL.
+
+    Returns:
+        The wall time it took, s.
+
+    Raises:
+        FirmwareError: not there within ``timeout_s``.
+    """
+    from dip3d_vehicle.errors import FirmwareError
+    from .firmware_mav import MavSocket
+    m = MavSocket(sock)
+    t0 = time.monotonic()
+    m.command(m2.MAV_CMD_SET_MESSAGE_INTERVAL, float(m2.MAVLINK_MSG_ID_SIM_STATE), 1e6 / SIM_STATE_HZ)
+    state = {"armed": False, "mode": 19, "depth": 0.0}
+    phase, next_hb, next_mc, next_try, hold_until = "arm", 0.0, 0.0, 0.0, 0.0
+    while phase != "done":
+        now = time.monotonic()
+        if now - t0 > timeout_s:
+            raise FirmwareError(f"ArduSub SITL: could not dive to {depth_m:g} m in {timeout_s:g} s "
+                                f"(phase {phase}, depth {state['depth']:.2f} m)")
+        for msg in m.pump():
+            if msg.get_type() == "HEARTBEAT" and msg.get_srcSystem() == 1 and msg.type == m2.MAV_TYPE_SUBMARINE:
+                state["armed"], state["mode"] = bool(msg.base_mode & 128), msg.custom_mode
+            elif msg.get_type() == "SIM_STATE":
+                state["depth"] = -float(msg.alt)
+        if now >= next_hb:
+            m.heartbeat()
+            next_hb = now + 1.0
+        z = 250 if phase == "dive" else 500
+        if now >= next_mc:
+            m.send(m2.MAVLink_manual_control_message(1, 0, 0, z, 0, 0))
+            next_mc = now + 0.05
+        if phase == "arm":
+            if state["armed"] and state["mode"] == 2:
+                phase = "dive"
+            elif now >= next_try:
+                m.command(m2.MAV_CMD_DO_SET_MODE, 1.0, 2.0)
+                m.command(m2.MAV_CMD_COMPONENT_ARM_DISARM, 1.0)
+                next_try = now + 0.5
+        elif phase == "dive" and state["depth"] >= depth_m - 0.1:
+            phase, hold_until = "hold", now + 1.0
+        elif phase == "hold" and now >= hold_until:
+            m.command(m2.MAV_CMD_COMPONENT_ARM_DISARM, 0.0)
+            m.command(m2.MAV_CMD_DO_SET_MODE, 1.0, 19.0)
+            phase = "done"
+        time.sleep(0.005)
+    return time.monotonic() - t0

@@ -1,4 +1,4 @@
-"""Measure an ArduSub SITL's steady response to MANUAL_CONTROL steps in ALT_HOLD (yaw r, forward x).
+"""Measure an ArduSub SITL's steady response to MANUAL_CONTROL steps in ALT_HOLD (yaw r, forward x, vertical z).
 
 usage: .venv/bin/python tools/measure_ardusub_sticks.py [BINARY] [--axis r|x] [--values 100,171,250,500]
        [--speedup 1] [--instance 40]
@@ -6,7 +6,7 @@ usage: .venv/bin/python tools/measure_ardusub_sticks.py [BINARY] [--axis r|x] [-
 Starts the binary on loopback (sitl/ardusub_sitl.py), speaks as the ground station (255/190), arms
 in ALT_HOLD at 3 m, and for each value streams MANUAL_CONTROL at 20 Hz for ``--on-s`` seconds then
 neutral; the steady state is the mean of the firmware's own truth (SIM_STATE zgyro for yaw, SIM_STATE
-vn/ve rotated into the body for x) over the last ``--mean-s`` seconds of each step. Prints one JSON
+vn/ve rotated into the body for x, vd for z) over the last ``--mean-s`` seconds of each step. Prints one JSON
 line per step and a table. Used for ``dip3d_vehicle/link/setpoints.py``'s per-firmware tables.
 """
 
@@ -29,7 +29,7 @@ from sitl.firmware_mav import MavSocket  # noqa: E402
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("binary", nargs="?", default=None)
-    ap.add_argument("--axis", choices=["r", "x"], default="r")
+    ap.add_argument("--axis", choices=["r", "x", "z"], default="r")
     ap.add_argument("--values", default="100,171,250,500")
     ap.add_argument("--speedup", type=float, default=1.0)
     ap.add_argument("--instance", type=int, default=40)
@@ -38,7 +38,7 @@ def main() -> int:
     a = ap.parse_args()
     values = [int(v) for v in a.values.split(",")]
     sitl = ArdusubSitl(SitlOptions(resolve_binary(a.binary), instance=a.instance, speedup=a.speedup,
-                                   home=(-27.563, -48.459, -3.0, 270.0)))
+                                   home=(-27.563, -48.459, -8.0, 270.0)))
     m = MavSocket(sitl.start())
     rows = []
     try:
@@ -51,7 +51,7 @@ def main() -> int:
             t_on = clock.run_for(a.on_s, sticks)
             steady = _steady(m, a.axis, t_on + a.on_s / a.speedup - a.mean_s / a.speedup)
             rows.append({"axis": a.axis, "value": v, "steady": round(steady, 4),
-                         "unit": "rad/s" if a.axis == "r" else "m/s"})
+                         "unit": {"r": "rad/s", "x": "m/s", "z": "m/s down"}[a.axis]})
             print(json.dumps(rows[-1]), flush=True)
             clock.run_for(3.0, dict(x=0, y=0, z=500, r=0))
     finally:
@@ -111,6 +111,8 @@ def _steady(m: MavSocket, axis: str, since: float) -> float:
         return math.nan
     if axis == "r":
         return sum(x.zgyro for x in xs) / len(xs)
+    if axis == "z":
+        return sum(x.vd for x in xs) / len(xs)  # down positive
     return sum(x.vn * math.cos(x.yaw) + x.ve * math.sin(x.yaw) for x in xs) / len(xs)
 
 
