@@ -34,6 +34,7 @@ def main() -> int:
     ap.add_argument("--seeds", default="0-9")
     ap.add_argument("--speedup", type=float, default=1.0)
     ap.add_argument("--builtin", action="store_true", help="also run each seed on the built-in autopilot (4.7 setting)")
+    ap.add_argument("--builtin-only", action="store_true", help="only the built-in autopilot (4.7 setting)")
     ap.add_argument("--max-s", type=float, default=None, help="sitl.max_sim_time_s (default 90, guided 150)")
     ap.add_argument("--out", default=None)
     a = ap.parse_args()
@@ -45,8 +46,9 @@ def main() -> int:
     for seed in seeds:
         sc = load_scenario("paper_pool", seed)
         params = sim_params(load_params(), sc, **{"link.output_mode": a.mode, "sitl.max_sim_time_s": max_s})
-        runs = [("firmware", lambda: FirmwareSimulation(sc, params, binary, speedup=a.speedup, instance=60 + seed))]
-        if a.builtin:
+        runs = [] if a.builtin_only else [
+            ("firmware", lambda: FirmwareSimulation(sc, params, binary, speedup=a.speedup, instance=60 + seed))]
+        if a.builtin or a.builtin_only:
             bparams = params.with_overrides({"sim.firmware": "4.7"}, "campaign")
             runs.append(("builtin-4.7", lambda: Simulation(sc, bparams)))
         for name, make in runs:
@@ -55,7 +57,8 @@ def main() -> int:
                 r = sim.run()
             finally:
                 sim.close()
-            row = {"autopilot": name, "mode": a.mode, "seed": seed, "speedup": a.speedup if name == "firmware" else None,
+            dive = getattr(sim, "dive_s", None)
+            row = {"autopilot": name, "dive_wall_s": None if dive is None else round(dive, 1), "mode": a.mode, "seed": seed, "speedup": a.speedup if name == "firmware" else None,
                    **{k: getattr(r, k) for k in KEYS}}
             print(json.dumps(row), flush=True)
             if a.out:
