@@ -221,7 +221,8 @@ class FirmwareSimulation(Simulation):
         self.received: list[Received] = []
         sock = self.sitl.start()
         try:
-            self.dive_s = pre_dive(sock, v.depth_m)
+            guided = params["link.output_mode"] == "guided_velocity"
+            self.dive_s = pre_dive(sock, v.depth_m, timeout_s=120.0 if guided else 60.0, guided=guided)
             self.ap = FirmwareVehicle(self.sitl, start, lat0, lon0, self.clock)
             self.router = FirmwareRouter(sock, self.ap, self.received)
             self.router.request_sim_state()  # (again: the dive asked too)
@@ -288,8 +289,12 @@ def make_firmware_simulation(scenario: Scenario, params: Mapping[str, Any], bina
                               instance=int(params["sitl.ardusub_instance"]), fault=fault, log=log)
 
 
-def pre_dive(sock: socket.socket, depth_m: float, timeout_s: float = 60.0) -> float:
+def pre_dive(sock: socket.socket, depth_m: float, timeout_s: float = 60.0, guided: bool = False) -> float:
     """As the pilot (255/190): arm in ALT_HOLD, dive to ``depth_m`` (SIM_STATE), hold, disarm, MANUAL.
+
+    With ``guided``, instead of disarming it holds the depth in ALT_HOLD and asks for GUIDED every
+    second until the firmware accepts it (the 4.7 SITL: ~41 s after boot, when its EKF uses the GPS),
+    and leaves the vehicle armed in GUIDED: disarmed in MANUAL meanwhile, it would sink ~1 m.
 
     Returns:
         The wall time it took, s.
@@ -330,9 +335,17 @@ def pre_dive(sock: socket.socket, depth_m: float, timeout_s: float = 60.0) -> fl
                 next_try = now + 0.5
         elif phase == "dive" and state["depth"] >= depth_m - 0.1:
             phase, hold_until = "hold", now + 1.0
-        elif phase == "hold" and now >= hold_until:
+        elif phase == "hold" and now >= hold_until and not guided:
             m.command(m2.MAV_CMD_COMPONENT_ARM_DISARM, 0.0)
             m.command(m2.MAV_CMD_DO_SET_MODE, 1.0, 19.0)
             phase = "done"
+        elif phase == "hold" and now >= hold_until:
+            phase, next_try = "guided", now
+        elif phase == "guided":
+            if state["mode"] == 4 and state["armed"]:
+                phase = "done"
+            elif now >= next_try:
+                m.command(m2.MAV_CMD_DO_SET_MODE, 1.0, 4.0)
+                next_try = now + 1.0
         time.sleep(0.005)
     return time.monotonic() - t0
