@@ -107,7 +107,7 @@ class _Firmware:
         self.sock = self.sitl.start()
 
     def close(self) -> None:
-        assert self.sitl.stop() == 0  # SIGTERM ends it with status 0
+        assert self.sitl.stop() == 0  # SIGTERM ends a booted firmware with status 0
 
 
 class _Script:
