@@ -59,7 +59,8 @@ def main() -> int:
                 sim.close()
             dive = getattr(sim, "dive_s", None)
             row = {"autopilot": name, "dive_wall_s": None if dive is None else round(dive, 1), "mode": a.mode, "seed": seed, "speedup": a.speedup if name == "firmware" else None,
-                   **{k: getattr(r, k) for k in KEYS}}
+                   **{k: getattr(r, k) for k in KEYS},
+                   "states": " ".join(f"{x['t_s']:.0f}:{x['state']}" for x in r.states)}
             print(json.dumps(row), flush=True)
             if a.out:
                 with open(a.out, "a") as f:

@@ -40,9 +40,11 @@ ours) and lets the autopilot's own failsafes act. The link never sends a non-neu
 disengaged. See ``engage.py`` for when it engages and the re-engage (enable latch) policy.
 
 Perception: a stale tick (the caller's flag, or the stamp older than ``link.perception_timeout_s``)
-disengages on that tick. To (re-)engage, perception must have been fresh without a break for 0.4 s
-("perception starting" until then), so a just-started or flickering pipeline holds instead of
-flipping engaged / disengaged (seen at the start of ``run`` on 2 cores).
+disengages on that tick. To engage the first time after the operator's enable, perception must have
+been fresh without a break for 0.4 s ("perception starting" until then), so a just-starting pipeline
+holds instead of flipping engaged / disengaged (seen at the start of ``run`` on 2 cores). After a
+stale hold it resumes on the first fresh tick: a longer hold would outlast ArduSub's pilot-input
+failsafe (3 s after the stop stream ends) and the vehicle would be disarmed.
 """
 
 from __future__ import annotations
@@ -77,7 +79,7 @@ _STOP_REPEAT_ON_CLOSE = 3
 _MAX_MESSAGES_PER_POLL = 2000
 _INTERVAL_TRIES = 3
 _STEADY_S = 1.0  # engage only after the autopilot was heard without a gap for this long
-_PERCEPTION_SETTLE_S = 0.4  # (re-)engage only after perception was fresh without a break for this long
+_PERCEPTION_SETTLE_S = 0.4  # first engage (per enable) only after perception was fresh without a break this long
 
 
 @dataclass(frozen=True)
@@ -186,6 +188,7 @@ class VehicleLink:
         self._sent_setpoints = False
         self._tcp_dead_since: float | None = None
         self._fresh_since: float | None = None
+        self._engaged_since_enable = False  # the perception settle applies until the first engagement
         self.firmware = "4.5"  # which stick tables: "4.7" once the autopilot answers MAV_GCS_SYSID
         self._last_unsigned_calls = 0
         self._bad_sig_base = 0
@@ -455,7 +458,11 @@ class VehicleLink:
         if decision.latched and not self._engaged:
             self.disengage_reason = decision.reason  # e.g. "ground station quiet" became "... lost"
         self._enabled = decision.operator_enabled
+        if not self._enabled:
+            self._engaged_since_enable = False
         self.not_engaged_reason = decision.reason
+        if decision.engaged:
+            self._engaged_since_enable = True
         if decision.engaged != self._engaged:
             self._set_engaged(decision.engaged, decision.reason)
             self._next_setpoint_s = now  # act on this tick: first command, or first stop
@@ -478,7 +485,8 @@ class VehicleLink:
             perception_fresh=perception_fresh, output_problem=self.output_problem(),
             autopilot_steady=self.autopilot.steady(now, c.autopilot_timeout_s, _STEADY_S),
             gcs_quiet=self.gcs.seen and not self.gcs.alive(now, self._gcs_quiet_s()),
-            perception_steady=self._fresh_since is not None and now - self._fresh_since >= _PERCEPTION_SETTLE_S - 1e-9)
+            perception_steady=self._engaged_since_enable or (
+                self._fresh_since is not None and now - self._fresh_since >= _PERCEPTION_SETTLE_S - 1e-9))
 
     def _gcs_quiet_s(self) -> float:
         """GCS silence after which the link holds, so the stop stream ends before the GCS is lost."""
