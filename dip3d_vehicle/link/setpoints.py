@@ -9,6 +9,14 @@ beyond the largest measured one are clamped to full stick.
 Between 0 and the first measured point the mapping is an interpolation, not a measurement; ArduSub's
 throttle dead zone (THR_DZ) may swallow very small vertical commands.
 
+Vertical has ArduSub's throttle dead zone (THR_DZ 100 on both versions): measured on the 4.7 SITL
+(SIM_STATE vd, ALT_HOLD, 4 s steps) z = 450 / 400 give no motion (-0.02 / 0.005 m/s), z = 350 / 320 /
+300 / 280 / 250 give 0.133 / 0.192 / 0.243 / 0.291 / 0.367 m/s down. The old table, a straight line
+from (0, 500) to (0.36, 250), sent z = 396 for 0.15 m/s: nothing happened, and the controller could
+not correct a vertical image error on the firmware (paper_pool stayed in servo for 60 s). The up
+side mirrors the measured down side about 500 (the same dead zone; above the boot depth ArduSub
+will not climb, so up steps were not measured here) and keeps 4.5's (-0.36, 750), (-0.90, 1000).
+
 Yaw has a dead zone, measured on the ArduSub 4.7.0-dev SITL (``tools/measure_ardusub_sticks.py``,
 steady SIM_STATE zgyro after 5 s, ALT_HOLD): r <= 115 gives no turn (0.002 rad/s), r = 130 / 171 /
 210 / 250 / 350 / 500 give 0.044 / 0.097 / 0.154 / 0.211 / 0.354 / 0.574 rad/s. The old table, a
@@ -50,7 +58,9 @@ FIRMWARES = tuple(YAW_TABLES)
 YAW_TABLE = YAW_TABLES["4.5"]
 """The 4.5 yaw table (the default before the firmware is known)."""
 HEAVE_TABLE: tuple[tuple[float, float], ...] = (
-    (-0.90, 1000.0), (-0.36, 750.0), (0.0, 500.0), (0.36, 250.0), (0.97, 0.0))
+    (-0.90, 1000.0), (-0.36, 750.0), (-0.291, 720.0), (-0.243, 700.0), (-0.192, 680.0), (-0.133, 650.0),
+    (-0.005, 600.0), (0.0, 500.0), (0.005, 400.0), (0.133, 350.0), (0.192, 320.0), (0.243, 300.0),
+    (0.291, 280.0), (0.36, 250.0), (0.97, 0.0))
 """Vertical z: downward speed m/s (negative = rise) -> MANUAL_CONTROL.z (0..1000, 500 neutral)."""
 
 MAV_FRAME_BODY_NED = 8

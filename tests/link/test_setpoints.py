@@ -104,3 +104,10 @@ def test_yaw_4_7_hits_its_measured_points(rate: float, stick: int) -> None:
     assert manual_control_from_velocity(VelocityCommand(yaw_rate_rad_s=rate), "4.7").r == stick
     t = YAW_TABLES["4.7"]
     assert all(a[0] < b[0] and a[1] < b[1] for a, b in zip(t, t[1:]))
+
+
+def test_small_heave_is_outside_arudsubs_throttle_dead_zone() -> None:
+    """Issue 13: 0.15 m/s down mapped to z = 396, inside THR_DZ (z 400..600 does nothing on the SITL)."""
+    assert manual_control_from_velocity(VelocityCommand(heave_m_s=0.15)).z < 400
+    assert manual_control_from_velocity(VelocityCommand(heave_m_s=-0.15)).z > 600
+    assert abs(manual_control_from_velocity(VelocityCommand(heave_m_s=0.192)).z - 320) <= 1
