@@ -29,6 +29,7 @@ def main() -> int:
     ap.add_argument("binary")
     ap.add_argument("--kinds", default="autopilot_silent,mode_change,disarm,perception_stall")
     ap.add_argument("--trials", type=int, default=10)
+    ap.add_argument("--speedup", type=float, default=0.5)
     ap.add_argument("--out", default=None)
     a = ap.parse_args()
     logging.getLogger("dip3d_vehicle.link").setLevel(logging.ERROR)
@@ -37,7 +38,8 @@ def main() -> int:
         for kind in a.kinds.split(","):
             sc = load_scenario("paper_pool", trial)
             params = sim_params(load_params(), sc, **{"sitl.max_sim_time_s": 60.0})
-            sim = FirmwareSimulation(sc, params, binary, instance=100 + trial, fault=Fault(kind, 1.0, "servo", 3.0))
+            sim = FirmwareSimulation(sc, params, binary, speedup=a.speedup, instance=100 + trial,
+                                     fault=Fault(kind, 1.0, "servo", 3.0))
             try:
                 r = sim.run()
             finally:
