@@ -130,6 +130,9 @@ def one_run(ending: str, binary: Path | None, instance: int) -> dict:
                                                        and src == (gcs_id, 191) and k == "MANUAL_CONTROL")
         out["failsafe_cleared"] = sum(1 for t, x in texts if t > t_lost and "Failsafe Cleared" in x)
         out["gcs_lost_statustext"] = sum(1 for t, x in texts if t > t_lost and "heartbeat lost" in x)
+        out["firmware_said_after_loss"] = sorted({x for t, x in texts if t > t_lost and "EKF" not in x})
+        if binary is not None:
+            out["armed_at_end"] = vehicle.armed
         out["withheld"] = link.stats.gcs_id_withheld
     finally:
         link.close()
