@@ -65,10 +65,15 @@ TRANSITIONS: list[dict] = [
 
 PERCEPTION_STALE = "perception stale"
 """The link's not-engaged reason that only holds the mission (the machine does not go to idle)."""
+HOLD_REASONS = (PERCEPTION_STALE, "perception starting")
+"""Not-engaged reasons that only hold the mission: stale perception, and perception settling after it."""
 
 SUSPEND_REASONS: tuple[str, ...] = LATCHING_REASONS
 """Not-engaged reasons (prefixes) that suspend a mission with a target: the link's latching reasons,
 each of which clears the operator's enable (so the link engages again only after a new enable)."""
+GCS_QUIET = "ground station quiet"
+"""The link's hold 1 s before it declares the ground station lost (so its neutral sticks still carry
+the GCS id): it suspends the mission like the loss that follows, without clearing the enable."""
 
 SUSPENDABLE: tuple[str, ...] = ("servo", "lost_target", "arrive")
 """States with a chosen target that a suspend reason suspends instead of ending the mission."""
@@ -133,8 +138,8 @@ class Mission:
         the state's own tick; ``suspended`` itself decides, in its tick, what a re-engage means.
         """
         bb = self.bb
-        if self.state not in ("idle", "suspended") and not bb.engaged and bb.hold_reason != PERCEPTION_STALE:
-            if self.state in SUSPENDABLE and bb.hold_reason.startswith(SUSPEND_REASONS):
+        if self.state not in ("idle", "suspended") and not bb.engaged and bb.hold_reason not in HOLD_REASONS:
+            if self.state in SUSPENDABLE and bb.hold_reason.startswith(SUSPEND_REASONS + (GCS_QUIET,)):
                 bb.say(f"disengaged ({bb.hold_reason}): suspending the mission, keeping the target")
                 self.trigger("suspend")
                 return "suspend"

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 __all__ = [
     "Dip3dError", "ParamsError", "CalibrationError", "ImageError", "KeypointsError",
-    "ModelError", "LinkError", "ScenarioError", "SourceError", "LogError", "DatasetError",
+    "ModelError", "LinkError", "ScenarioError", "SourceError", "LogError", "DatasetError", "FirmwareError",
 ]
 
 
@@ -50,3 +50,7 @@ class LogError(Dip3dError):
 
 class DatasetError(Dip3dError):
     """An evaluation dataset is missing files or annotations."""
+
+
+class FirmwareError(Dip3dError):
+    """The ArduSub SITL binary is missing, not executable, or did not start / connect."""

@@ -30,6 +30,7 @@ from dip3d_vehicle.config import load_params
 from dip3d_vehicle.link.statustext import statustext_messages
 
 from .dynamics import Dynamics, VehicleParams, VehicleState, wrap_pi
+from .firmware_versions import firmware_profile
 from .mavftp import FtpServer
 from .mavlink_endpoint import Endpoint, Link
 from .modes import (MODE_NUMBERS, MODES, POSITION_MODES, ControlGains, Controller, GuidedTarget,
@@ -49,7 +50,7 @@ ARDUSUB_PARAMS: dict[str, float] = {
     "ATC_RATE_Y_MAX": 180, "ATC_ACCEL_Y_MAX": 110000, "WPNAV_SPEED": 100, "SIM_BUOYANCY": 1,
     "FRAME_CONFIG": 1, "MOT_FV_CPLNG_K": 1, "FS_LEAK_ENABLE": 1,
 }
-_PARAM_RANGES = {"FS_PILOT_TIMEOUT": (0.1, 3.0), "SYSID_MYGCS": (1, 255), "FS_PILOT_INPUT": (0, 2),
+_PARAM_RANGES = {"FS_PILOT_TIMEOUT": (0.1, 3.0), "SYSID_MYGCS": (1, 255), "MAV_GCS_SYSID": (1, 255), "FS_PILOT_INPUT": (0, 2),
                  "FS_GCS_ENABLE": (0, 4), "JS_GAIN_DEFAULT": (0.1, 1.0), "RC_OVERRIDE_TIME": (-1, 120)}
 
 #: Default stream intervals (ArduSub stream groups: EXTRA1 10 Hz, EXTRA2 10, POSITION 3, EXT_STAT 2,
@@ -99,12 +100,14 @@ class Autopilot:
         signing_key: 32-byte MAVLink 2 signing key, or None.
         sysid: vehicle system id; default ``sim.sysid``.
         initial_state: starting VehicleState (default: ``sim.initial_depth_m`` / ``initial_yaw_deg``).
+        firmware: "4.5" / "4.7" behaviour (default ``sim.firmware``; see sitl/firmware_versions.py).
     """
 
     def __init__(self, params: Mapping[str, Any] | None = None, clock: Clock | None = None,
                  listen: list[str] | tuple[str, ...] = ("tcp:127.0.0.1:5760",),
                  has_position: bool | None = None, signing_key: bytes | None = None,
-                 sysid: int | None = None, initial_state: VehicleState | None = None) -> None:
+                 sysid: int | None = None, initial_state: VehicleState | None = None,
+                 firmware: str | None = None) -> None:
         if clock is None:
             from dip3d_vehicle.clock import SimClock
             clock = SimClock()
@@ -114,8 +117,13 @@ class Autopilot:
         self.sysid = int(sysid if sysid is not None else p["sim.sysid"])
         self.has_position = bool(p["sim.has_position"] if has_position is None else has_position)
         self.ap_params: dict[str, float] = dict(ARDUSUB_PARAMS, SYSID_THISMAV=self.sysid)
+        self.firmware = fw = firmware_profile(p["sim.firmware"] if firmware is None else firmware)
+        if fw.version != "4.5":  # 4.7 renamed the id parameters and added FS_GCS_TIMEOUT
+            self.ap_params[fw.gcs_sysid_param] = self.ap_params.pop("SYSID_MYGCS")
+            self.ap_params[fw.this_mav_param] = self.ap_params.pop("SYSID_THISMAV")
+            self.ap_params["FS_GCS_TIMEOUT"] = fw.gcs_failsafe_timeout_s
         self.pilot_failsafe_enabled = bool(p["sim.pilot_input_failsafe"])
-        self.gcs_timeout_s = float(p["sim.gcs_failsafe_timeout_s"])
+        self.gcs_timeout_s = float(p["sim.gcs_failsafe_timeout_s"]) if fw.version == "4.5" else fw.gcs_failsafe_timeout_s
         self.guided_timeout_s = float(p["sim.guided_velocity_timeout_s"])
         self.home = (float(p["sim.home_lat_deg"]), float(p["sim.home_lon_deg"]))
         self._dt = 1.0 / float(p["sim.physics_rate_hz"])
@@ -220,8 +228,12 @@ class Autopilot:
         if mode not in MODES:
             self.statustext(M.MAV_SEVERITY_WARNING, f"No such mode {mode}")
             return False
-        if mode in POSITION_MODES and not self.has_position:
+        booted_s = self.time_boot_s
+        if mode in POSITION_MODES and (not self.has_position or booted_s < self.firmware.position_after_s):
             self.statustext(M.MAV_SEVERITY_WARNING, f"Mode change failed: {MODES[mode]} requires position")
+            return False
+        if mode == MODE_NUMBERS["ALT_HOLD"] and booted_s < self.firmware.alt_hold_after_s:
+            self.statustext(M.MAV_SEVERITY_WARNING, "Mode change failed: ALT_HOLD need alt estimate")
             return False
         if mode != self.mode:
             self.controller.depth_hold_m = None
@@ -235,6 +247,9 @@ class Autopilot:
 
     def arm(self, arm: bool) -> bool:
         """Arm or disarm as MAV_CMD_COMPONENT_ARM_DISARM would; return True when done."""
+        if arm and not self.armed and self.time_boot_s < self.firmware.arm_after_s:
+            self.statustext(M.MAV_SEVERITY_CRITICAL, "Arm: Battery 1 unhealthy")
+            return False
         if arm and not self.armed:
             self.armed = True
             self._last_pilot_input_s = max(self._last_pilot_input_s, self.clock.now())
@@ -302,7 +317,7 @@ class Autopilot:
             return
         if t - self._gcs_warn_s > 30.0:
             self._gcs_warn_s = t
-            self.statustext(M.MAV_SEVERITY_WARNING, f"MYGCS: {int(self.ap_params['SYSID_MYGCS'])}, heartbeat lost")
+            self.statustext(M.MAV_SEVERITY_WARNING, f"MYGCS: {int(self.ap_params[self.firmware.gcs_sysid_param])}, heartbeat lost")
         if self._fs_gcs or not self.armed:
             return
         self._fs_gcs = True
@@ -326,7 +341,7 @@ class Autopilot:
             handler(link, msg, now)
 
     def _from_gcs(self, msg: Any) -> bool:
-        return msg.get_srcSystem() == int(self.ap_params["SYSID_MYGCS"])
+        return msg.get_srcSystem() == int(self.ap_params[self.firmware.gcs_sysid_param])
 
     def _for_me(self, target_system: int) -> bool:
         return target_system in (0, self.sysid)
@@ -394,6 +409,12 @@ class Autopilot:
             result = M.MAV_RESULT_UNSUPPORTED
         self._ack(link, msg, command, result)
 
+    def _system_status(self, now: float) -> int:
+        """HEARTBEAT.system_status: ACTIVE armed, STANDBY disarmed, CRITICAL (5) just after a 4.7 boot."""
+        if now - self._boot_t0 < self.firmware.boot_status_s:
+            return M.MAV_STATE_CRITICAL
+        return M.MAV_STATE_ACTIVE if self.armed else M.MAV_STATE_STANDBY
+
     def _on_set_mode(self, link: Link, msg: Any, now: float) -> None:
         if msg.target_system != self.sysid:
             return
@@ -401,7 +422,8 @@ class Autopilot:
             result = M.MAV_RESULT_UNSUPPORTED
         else:
             result = M.MAV_RESULT_ACCEPTED if self.set_mode(int(msg.custom_mode)) else M.MAV_RESULT_FAILED
-        self._ack(link, msg, M.MAVLINK_MSG_ID_SET_MODE, result)  # ArduSub acks SET_MODE as command 11
+        if self.firmware.acks_set_mode_message:  # 4.5 acks SET_MODE as command 11; 4.7 does not
+            self._ack(link, msg, M.MAVLINK_MSG_ID_SET_MODE, result)
 
     def _on_set_position_target_local_ned(self, link: Link, msg: Any, now: float) -> None:
         if msg.target_system != self.sysid or self.mode != MODE_NUMBERS["GUIDED"]:
@@ -467,7 +489,7 @@ class Autopilot:
             return
         name = msg.param_id if isinstance(msg.param_id, str) else msg.param_id.decode(errors="replace")
         name = name.rstrip("\x00")
-        if name not in self.ap_params or name == "SYSID_THISMAV" or not math.isfinite(msg.param_value):
+        if name not in self.ap_params or name == self.firmware.this_mav_param or not math.isfinite(msg.param_value):
             return
         lo, hi = _PARAM_RANGES.get(name, (-math.inf, math.inf))
         self.ap_params[name] = min(hi, max(lo, float(msg.param_value)))
@@ -533,7 +555,7 @@ class Autopilot:
             if self.mode == MODE_NUMBERS["GUIDED"]:
                 base |= M.MAV_MODE_FLAG_GUIDED_ENABLED
             return M.MAVLink_heartbeat_message(M.MAV_TYPE_SUBMARINE, M.MAV_AUTOPILOT_ARDUPILOTMEGA, base,
-                                               self.mode, M.MAV_STATE_ACTIVE if self.armed else M.MAV_STATE_STANDBY, 3)
+                                               self.mode, self._system_status(now), 3)
         if msg_id == M.MAVLINK_MSG_ID_SYS_STATUS:
             present, enabled, health = sys_status_bits(self.mode, self.has_position)  # ArduSub's bits: no "fence breach"
             return M.MAVLink_sys_status_message(present, enabled, health, 100, 16000, 100, 90, 0, 0, 0, 0, 0, 0)

@@ -38,12 +38,16 @@ PWM_SPAN_US = 400.0  # 1100..1900
 
 # Pilot command -> target, measured on the real SITL (ALT_HOLD steady states; PWM offsets from
 # RC_CHANNELS): yaw ch4 offset (us) -> rate (rad/s); throttle ch3 offset -> climb (m/s, down +).
-_YAW_TABLE_US = tuple([0.0, 50.0, 100.0, 200.0, 400.0])
-_YAW_TABLE_RAD_S = tuple([0.0, 0.214, 0.593, 1.319, 2.771])  # 400 us: linear extrapolation
-_CLIMB_UP_US = tuple([0.0, 100.0, 200.0, 400.0])
-_CLIMB_UP_M_S = tuple([0.0, 0.359, 0.898, 0.898])  # PILOT_SPEED_UP caps it
-_CLIMB_DN_US = tuple([0.0, 100.0, 200.0, 400.0])
-_CLIMB_DN_M_S = tuple([0.0, 0.356, 0.968, 0.968])
+# Below 100 us both have dead zones, measured on the 4.7 SITL (issue 13; tools/measure_ardusub_sticks.py):
+# yaw nothing up to 23 us (r = 115), then 0.044 / 0.097 / 0.154 rad/s at 26 / 34 / 42 us; throttle nothing
+# up to 40 us (THR_DZ; z = 400), then 0.133 / 0.192 / 0.243 / 0.291 m/s down at 60 / 72 / 80 / 88 us
+# (the up side mirrored: ArduSub will not climb above its boot depth, so it was not measured).
+_YAW_TABLE_US = tuple([0.0, 23.0, 26.0, 34.2, 42.0, 50.0, 100.0, 200.0, 400.0])
+_YAW_TABLE_RAD_S = tuple([0.0, 0.0, 0.0435, 0.097, 0.154, 0.214, 0.593, 1.319, 2.771])  # 400 us: extrapolated
+_CLIMB_UP_US = tuple([0.0, 40.0, 60.0, 72.0, 80.0, 88.0, 100.0, 200.0, 400.0])
+_CLIMB_UP_M_S = tuple([0.0, 0.0, 0.133, 0.192, 0.243, 0.291, 0.359, 0.898, 0.898])  # PILOT_SPEED_UP caps it
+_CLIMB_DN_US = tuple([0.0, 40.0, 60.0, 72.0, 80.0, 88.0, 100.0, 200.0, 400.0])
+_CLIMB_DN_M_S = tuple([0.0, 0.0, 0.133, 0.192, 0.243, 0.291, 0.356, 0.968, 0.968])
 
 
 def _clamp(x: float, lo: float, hi: float) -> float:

@@ -410,7 +410,7 @@ class Simulation:
         wall0 = time.perf_counter()
         try:
             while self.clock.now() < max_t:
-                now = self.clock.advance(dt)
+                now = self.clock.advance(self._step_dt(dt))
                 self.ap.step()
                 self.router.step()
                 self.pilot.step()
@@ -445,6 +445,10 @@ class Simulation:
             self.router.step()
             self.ap.step()
         return self._with_outcome(self._result(time.perf_counter() - wall0))
+
+    def _step_dt(self, dt: float) -> float:
+        """The clock's advance this step (lockstep: ``dt``; the firmware world follows the wall clock)."""
+        return dt
 
     def _capture(self, now: float):
         """Render the frame the camera sees now and process it (None while perception is stalled)."""

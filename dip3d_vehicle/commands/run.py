@@ -104,7 +104,8 @@ def run(args: argparse.Namespace) -> int:
     period = 1.0 / params["behaviour.tick_rate_hz"]
     printed = 0
     t_end = None if args.duration is None else clock.now() + args.duration
-    print(f"run: {rig.source}, {size[0]}x{size[1]}, link {link.config.url}; Ctrl-C to stop", flush=True)
+    print(f"run: camera {args.camera}, calibration {rig.source}, {size[0]}x{size[1]}, link {link.config.url}; "
+          f"Ctrl-C to stop", flush=True)
     worker.start()
     next_tick = clock.now()
     try:

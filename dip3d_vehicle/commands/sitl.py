@@ -45,6 +45,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--faults", metavar="FILE", default=None,
                         help="inject the faults of a fault plan (e.g. sitl/faults/link_cut.yaml): lossy link, "
                              "autopilot reboot, pilot actions, ground-station loss, camera faults")
+    parser.add_argument("--ardusub", metavar="PATH", default=None,
+                        help="fly against this ArduSub SITL binary instead of the built-in autopilot "
+                             "(wall-clock time; see sitl.ardusub_speedup)")
     add_record_arguments(parser)
     add_params_arguments(parser)
 
@@ -85,7 +88,12 @@ def run(args: argparse.Namespace) -> int:
     try:
         for line in lines:
             print(line, file=sys.stderr, flush=True)
-        sim = make_simulation(scenario, params, args.faults, args.seed, speed=args.speed, log=log)
+        ardusub = args.ardusub or params["sitl.ardusub_path"]
+        if ardusub:
+            from sitl.firmware_world import make_firmware_simulation
+            sim = make_firmware_simulation(scenario, params, ardusub, log=log)
+        else:
+            sim = make_simulation(scenario, params, args.faults, args.seed, speed=args.speed, log=log)
         log.rig = sim.rig
         log.attach_link(sim.link)
         live = None if args.json else LiveStory(sim)

@@ -41,6 +41,10 @@ class EngageInputs:
         output_problem: why the output path cannot be used ("" when it can).
         autopilot_steady: the autopilot has been heard without a gap for a while, i.e. its
             message stream is fast enough for the liveness timeout (a bare 1 Hz HEARTBEAT is not).
+        perception_steady: perception has been fresh without a break for a while (hysteresis: a
+            flickering or just-started perception holds instead of engaging and disengaging).
+        gcs_quiet: the ground station's HEARTBEAT is overdue (not yet lost): hold, so that the stop
+            stream ends before the loss, after which nothing may carry the GCS's system id.
     """
 
     autopilot_alive: bool
@@ -53,6 +57,8 @@ class EngageInputs:
     perception_fresh: bool = True
     output_problem: str = ""
     autopilot_steady: bool = True
+    gcs_quiet: bool = False
+    perception_steady: bool = True
 
     @property
     def in_handover(self) -> bool:
@@ -102,12 +108,16 @@ def blockers(inp: EngageInputs) -> list[str]:
             out.append("autopilot messages come slower than the liveness timeout (is the ATTITUDE stream running?)")
     if inp.gcs_required and not inp.gcs_alive:
         out.append("ground station not heard")
+    elif inp.gcs_required and inp.gcs_quiet:
+        out.append("ground station quiet")
     if not inp.operator_enabled:
         out.append("not enabled by the operator")
     if inp.output_problem:
         out.append(inp.output_problem)
     if not inp.perception_fresh:
         out.append("perception stale")
+    elif not inp.perception_steady:
+        out.append("perception starting")
     return out
 
 

@@ -8,6 +8,23 @@ beyond the largest measured one are clamped to full stick.
 
 Between 0 and the first measured point the mapping is an interpolation, not a measurement; ArduSub's
 throttle dead zone (THR_DZ) may swallow very small vertical commands.
+
+Vertical has ArduSub's throttle dead zone (THR_DZ 100 on both versions): measured on the 4.7 SITL
+(SIM_STATE vd, ALT_HOLD, 4 s steps) z = 450 / 400 give no motion (-0.02 / 0.005 m/s), z = 350 / 320 /
+300 / 280 / 250 give 0.133 / 0.192 / 0.243 / 0.291 / 0.367 m/s down. The old table, a straight line
+from (0, 500) to (0.36, 250), sent z = 396 for 0.15 m/s: nothing happened, and the controller could
+not correct a vertical image error on the firmware (paper_pool stayed in servo for 60 s). The up
+side mirrors the measured down side about 500 (the same dead zone; above the boot depth ArduSub
+will not climb, so up steps were not measured here) and keeps 4.5's (-0.36, 750), (-0.90, 1000).
+
+Yaw has a dead zone, measured on the ArduSub 4.7.0-dev SITL (``tools/measure_ardusub_sticks.py``,
+steady SIM_STATE zgyro after 5 s, ALT_HOLD): r <= 115 gives no turn (0.002 rad/s), r = 130 / 171 /
+210 / 250 / 350 / 500 give 0.044 / 0.097 / 0.154 / 0.211 / 0.354 / 0.574 rad/s. The old table, a
+straight line from 0 to the 4.5 point r = 250 (0.214), asked r = 171 for 0.146 rad/s and got 0.097.
+At the points both versions were measured (250, 500) they agree within 3 %, so the low end (the
+same joystick/RC code) is used for both: ``YAW_TABLES["4.5"]`` is the 4.5 measurements with the 4.7
+low end, ``YAW_TABLES["4.7"]`` the 4.7 measurements (its r = 1000 point is 4.5's). The link picks
+the table by the firmware's GCS-sysid parameter name (MAV_GCS_SYSID: 4.7+, SYSID_MYGCS: 4.5).
 """
 
 from __future__ import annotations
@@ -20,7 +37,7 @@ from ..servo.command import VelocityCommand
 
 __all__ = [
     "ManualControl", "GuidedVelocity", "NEUTRAL_STICKS", "ZERO_GUIDED",
-    "SURGE_TABLE", "SWAY_TABLE", "YAW_TABLE", "HEAVE_TABLE",
+    "SURGE_TABLE", "SWAY_TABLE", "YAW_TABLE", "YAW_TABLES", "HEAVE_TABLE", "FIRMWARES",
     "manual_control_from_velocity", "guided_from_velocity",
     "MAV_FRAME_BODY_NED", "TYPE_MASK_VELOCITY_YAW_RATE",
 ]
@@ -30,10 +47,20 @@ SURGE_TABLE: tuple[tuple[float, float], ...] = ((0.0, 0.0), (0.258, 250.0), (0.5
 """Forward x: true body speed m/s -> MANUAL_CONTROL.x."""
 SWAY_TABLE: tuple[tuple[float, float], ...] = ((0.0, 0.0), (0.455, 500.0), (0.911, 1000.0))
 """Lateral y: true body speed m/s (right positive) -> MANUAL_CONTROL.y."""
-YAW_TABLE: tuple[tuple[float, float], ...] = ((0.0, 0.0), (0.214, 250.0), (0.593, 500.0), (1.319, 1000.0))
-"""Yaw r: yaw rate rad/s (clockwise from above positive) -> MANUAL_CONTROL.r."""
+_YAW_LOW_END = ((0.0, 0.0), (0.002, 115.0), (0.0435, 130.0), (0.097, 171.0), (0.154, 210.0))  # 4.7, dead zone
+YAW_TABLES: dict[str, tuple[tuple[float, float], ...]] = {
+    "4.5": _YAW_LOW_END + ((0.214, 250.0), (0.593, 500.0), (1.319, 1000.0)),
+    "4.7": _YAW_LOW_END + ((0.211, 250.0), (0.354, 350.0), (0.574, 500.0), (1.319, 1000.0)),
+}
+"""Yaw r per firmware: yaw rate rad/s (clockwise from above positive) -> MANUAL_CONTROL.r."""
+FIRMWARES = tuple(YAW_TABLES)
+"""The ArduSub versions with their own tables."""
+YAW_TABLE = YAW_TABLES["4.5"]
+"""The 4.5 yaw table (the default before the firmware is known)."""
 HEAVE_TABLE: tuple[tuple[float, float], ...] = (
-    (-0.90, 1000.0), (-0.36, 750.0), (0.0, 500.0), (0.36, 250.0), (0.97, 0.0))
+    (-0.90, 1000.0), (-0.36, 750.0), (-0.291, 720.0), (-0.243, 700.0), (-0.192, 680.0), (-0.133, 650.0),
+    (-0.005, 600.0), (0.0, 500.0), (0.005, 400.0), (0.133, 350.0), (0.192, 320.0), (0.243, 300.0),
+    (0.291, 280.0), (0.36, 250.0), (0.97, 0.0))
 """Vertical z: downward speed m/s (negative = rise) -> MANUAL_CONTROL.z (0..1000, 500 neutral)."""
 
 MAV_FRAME_BODY_NED = 8
@@ -96,11 +123,12 @@ def _finite(value: float) -> float:
     return float(value) if np.isfinite(value) else 0.0
 
 
-def manual_control_from_velocity(cmd: VelocityCommand) -> ManualControl:
+def manual_control_from_velocity(cmd: VelocityCommand, firmware: str = "4.5") -> ManualControl:
     """Map a body-frame velocity command to MANUAL_CONTROL sticks through the measured responses.
 
     Args:
         cmd: the servo's velocity command (surge/sway/heave m/s, yaw rate rad/s).
+        firmware: "4.5" or "4.7": which yaw table (see ``YAW_TABLES``).
 
     Returns:
         Sticks clamped to x, y, r in -1000..1000 and z in 0..1000 (500 neutral); a non-finite axis
@@ -112,7 +140,7 @@ def manual_control_from_velocity(cmd: VelocityCommand) -> ManualControl:
     """
     x = _symmetric_interp(_finite(cmd.surge_m_s), SURGE_TABLE)
     y = _symmetric_interp(_finite(cmd.sway_m_s), SWAY_TABLE)
-    r = _symmetric_interp(_finite(cmd.yaw_rate_rad_s), YAW_TABLE)
+    r = _symmetric_interp(_finite(cmd.yaw_rate_rad_s), YAW_TABLES[firmware])
     heave = _finite(cmd.heave_m_s)
     z = float(np.interp(heave, [p[0] for p in HEAVE_TABLE], [p[1] for p in HEAVE_TABLE]))
     clamp = lambda v, lo, hi: int(round(min(max(v, lo), hi)))  # noqa: E731

@@ -103,6 +103,8 @@ class LinkStats:
         rejected_bad_signature: signed messages with a wrong key or replayed timestamp.
         bad_data: unparsable bytes/packets.
         operator_commands_denied: MAV_CMD_USER_1 from a sender that is not the ground station.
+        gcs_id_withheld: MANUAL_CONTROL not sent because the ground station was lost (or never heard):
+            its system id is used only while it is heard.
         sent: messages sent, by type name.
     """
 
@@ -113,6 +115,7 @@ class LinkStats:
     rejected_bad_signature: int = 0
     bad_data: int = 0
     operator_commands_denied: int = 0
+    gcs_id_withheld: int = 0
     sent: dict[str, int] = field(default_factory=dict)
 
     def count_sent(self, name: str) -> None:

@@ -14,7 +14,13 @@ Identity: our own HEARTBEAT (1 Hz) from ``link.system_id`` / ``link.component_id
 computer), type ONBOARD_CONTROLLER, autopilot INVALID. In ``manual_control`` mode, and only
 there, MANUAL_CONTROL goes out with the autopilot's SYSID_MYGCS as system id, because ArduSub drops
 pilot input from any other system; nothing else is ever sent with that id (see ``open()``'s
-warning).
+warning), and not even MANUAL_CONTROL while the ground station is lost: from ``link.gcs_timeout_s``
+of GCS silence until a GCS HEARTBEAT is heard again, no message carries its id (not the stop
+stream, not ``close()``, not after a reconnect), because ArduSub counts any MANUAL_CONTROL from that
+id as ground-station contact and would clear its own GCS failsafe. So that the neutral sticks still
+reach the autopilot, the link already disengages ("ground station quiet", a hold) when the GCS
+HEARTBEAT is overdue by ``gcs_timeout_s - stop_zero_s`` (at least half the timeout): the stop
+stream ends by the time the GCS is declared lost.
 
 Liveness: ArduSub's HEARTBEAT is 1 Hz, too slow for "stop within 1 s of losing the autopilot".
 The link asks for ATTITUDE at ``link.rate.attitude_hz`` (10 Hz) with SET_MESSAGE_INTERVAL and
@@ -32,6 +38,13 @@ MANUAL_CONTROL for 3 s after the stream stops; silence afterwards hands the stic
 pilot's own joystick (which also sends MANUAL_CONTROL from SYSID_MYGCS and would otherwise fight
 ours) and lets the autopilot's own failsafes act. The link never sends a non-neutral command while
 disengaged. See ``engage.py`` for when it engages and the re-engage (enable latch) policy.
+
+Perception: a stale tick (the caller's flag, or the stamp older than ``link.perception_timeout_s``)
+disengages on that tick. To engage the first time after the operator's enable, perception must have
+been fresh without a break for 0.4 s ("perception starting" until then), so a just-starting pipeline
+holds instead of flipping engaged / disengaged (seen at the start of ``run`` on 2 cores). After a
+stale hold it resumes on the first fresh tick: a longer hold would outlast ArduSub's pilot-input
+failsafe (3 s after the stop stream ends) and the vehicle would be disarmed.
 """
 
 from __future__ import annotations
@@ -66,6 +79,7 @@ _STOP_REPEAT_ON_CLOSE = 3
 _MAX_MESSAGES_PER_POLL = 2000
 _INTERVAL_TRIES = 3
 _STEADY_S = 1.0  # engage only after the autopilot was heard without a gap for this long
+_PERCEPTION_SETTLE_S = 0.4  # first engage (per enable) only after perception was fresh without a break this long
 
 
 @dataclass(frozen=True)
@@ -176,6 +190,9 @@ class VehicleLink:
         self._intervals_pending: deque[list] = deque()
         self._sent_setpoints = False
         self._tcp_dead_since: float | None = None
+        self._fresh_since: float | None = None
+        self._engaged_since_enable = False  # the perception settle applies until the first engagement
+        self.firmware = "4.5"  # which stick tables: "4.7" once the autopilot answers MAV_GCS_SYSID
         self._last_unsigned_calls = 0
         self._bad_sig_base = 0
 
@@ -222,7 +239,8 @@ class VehicleLink:
                 f"(the autopilot's SYSID_MYGCS; {c.gcs_system_id} until it has been read), because ArduSub "
                 "drops pilot input from any other system. ArduSub counts it as ground-station contact, so "
                 "this controller watches the ground station's HEARTBEAT itself and stops sending "
-                f"MANUAL_CONTROL within {c.gcs_timeout_s + c.stop_zero_s:g} s of losing it, leaving the "
+                f"MANUAL_CONTROL {self._gcs_quiet_s():g} s after its last HEARTBEAT (neutral until "
+                f"{c.gcs_timeout_s:g} s, then nothing with its id until it is heard again), leaving the "
                 "autopilot's GCS failsafe to act. Nothing else (no HEARTBEAT) is ever sent with that id; "
                 f"this controller's own id is {c.system_id}/{c.component_id}.")
         self._send_heartbeat()
@@ -236,6 +254,9 @@ class VehicleLink:
                 self._send_stop()
         if self._engaged:
             self._set_engaged(False, "link closed")
+        if self.stats.gcs_id_withheld:
+            self._event(f"{self.stats.gcs_id_withheld} MANUAL_CONTROL withheld: the ground station was lost, "
+                        f"its system id is used only while it is heard")
         self._event("closed")
         try:
             self._conn.close()
@@ -370,6 +391,10 @@ class VehicleLink:
         if value != self.gcs.sysid and self._gcs_mav is not None:
             self._gcs_mav = None
         self.gcs = replace(self.gcs, sysid=value, sysid_from_autopilot=True)
+        firmware = "4.7" if name == "MAV_GCS_SYSID" else "4.5"
+        if firmware != self.firmware:
+            self._event(f"{name} answered: ArduSub {firmware} stick tables")
+            self.firmware = firmware
         self._param_first_s = None
         if value == self.config.system_id and self.config.output_mode == "manual_control":
             self._warn(f"{name} = {value} is this controller's own system id (link.system_id): MANUAL_CONTROL "
@@ -426,13 +451,23 @@ class VehicleLink:
         self._maybe_reconnect_tcp(now)
         fresh = perception_fresh and (perception_stamp_s is None
                                       or now - perception_stamp_s <= self.config.perception_timeout_s)
+        if not fresh:
+            self._fresh_since = None
+        elif self._fresh_since is None:
+            self._fresh_since = now
         inputs = self._inputs(now, fresh)
         decision = decide(self._prev_inputs, inputs)
         self._prev_inputs = inputs
         if decision.latched and self._enabled:
             self._event(f"operator enable cleared: {decision.reason}")
+        if decision.latched and not self._engaged:
+            self.disengage_reason = decision.reason  # e.g. "ground station quiet" became "... lost"
         self._enabled = decision.operator_enabled
+        if not self._enabled:
+            self._engaged_since_enable = False
         self.not_engaged_reason = decision.reason
+        if decision.engaged:
+            self._engaged_since_enable = True
         if decision.engaged != self._engaged:
             self._set_engaged(decision.engaged, decision.reason)
             self._next_setpoint_s = now  # act on this tick: first command, or first stop
@@ -453,7 +488,25 @@ class VehicleLink:
             mode=self.autopilot.mode, engage_mode=c.engage_mode, operator_enabled=self._enabled,
             gcs_alive=self.gcs.alive(now, c.gcs_timeout_s), gcs_required=c.require_gcs,
             perception_fresh=perception_fresh, output_problem=self.output_problem(),
-            autopilot_steady=self.autopilot.steady(now, c.autopilot_timeout_s, _STEADY_S))
+            autopilot_steady=self.autopilot.steady(now, c.autopilot_timeout_s, _STEADY_S),
+            gcs_quiet=self.gcs.seen and not self.gcs.alive(now, self._gcs_quiet_s()),
+            perception_steady=self._engaged_since_enable or (
+                self._fresh_since is not None and now - self._fresh_since >= _PERCEPTION_SETTLE_S - 1e-9))
+
+    def _gcs_quiet_s(self) -> float:
+        """GCS silence after which the link holds, so the stop stream ends before the GCS is lost."""
+        c = self.config
+        return max(c.gcs_timeout_s - c.stop_zero_s, 0.5 * c.gcs_timeout_s)
+
+    def gcs_id_allowed(self, now: float) -> bool:
+        """Return True when MANUAL_CONTROL may carry the ground station's system id now.
+
+        Only while the ground station is heard (its HEARTBEAT within ``link.gcs_timeout_s``); with
+        ``link.require_gcs`` off also before any ground station was ever heard.
+        """
+        if self.gcs.seen:
+            return self.gcs.alive(now, self.config.gcs_timeout_s)
+        return not self.config.require_gcs
 
     def output_problem(self) -> str:
         """Return why the output path cannot be used now ("" when it can)."""
@@ -486,7 +539,7 @@ class VehicleLink:
         if self._engaged:
             cmd = command if command is not None else VelocityCommand()
             if self.config.output_mode == "manual_control":
-                self._send_manual_control(manual_control_from_velocity(cmd))
+                self._send_manual_control(manual_control_from_velocity(cmd, self.firmware))
             else:
                 self._send_guided(guided_from_velocity(cmd))
         elif self._stop_until_s is not None:
@@ -537,7 +590,15 @@ class VehicleLink:
             m.MAV_TYPE_ONBOARD_CONTROLLER, m.MAV_AUTOPILOT_INVALID, 0, 0, status, 3))
 
     def _send_manual_control(self, sticks: ManualControl) -> None:
-        """MANUAL_CONTROL with the ground station's system id (ArduSub's rule); buttons always 0."""
+        """MANUAL_CONTROL with the ground station's system id (ArduSub's rule); buttons always 0.
+
+        Withheld (and counted) while the ground station is lost: see ``gcs_id_allowed``.
+        """
+        if self._conn is None:
+            return
+        if not self.gcs_id_allowed(self.clock.now()):
+            self.stats.gcs_id_withheld += 1
+            return
         if self._gcs_mav is None or self._gcs_mav.srcSystem != self.gcs.sysid:
             self._gcs_mav = gcs_encoder(self._conn, self.gcs.sysid, self.config.component_id)
         self._sent_setpoints = True

@@ -47,6 +47,7 @@ class FakeAutopilot:
     attitude_hz: float = 4.0
     boot_origin_s: float = 0.0
     received: list[Received] = field(default_factory=list)
+    gcs_heartbeats_s: list[float] = field(default_factory=list)
     last_sent_s: float | None = None
     _next_hb: float = 0.0
     _next_att: float = 0.0
@@ -91,6 +92,7 @@ class FakeAutopilot:
 
     def gcs_heartbeat(self) -> None:
         self.send(mavlink2.MAVLink_heartbeat_message(6, 8, 0, 0, 4, 3), as_gcs=True)
+        self.gcs_heartbeats_s.append(self.clock.now())
 
     def operator(self, enable: bool, as_gcs: bool = True) -> None:
         """MAV_CMD_USER_1 to the controller (1, 191), from the ground station (or from the autopilot's id)."""

@@ -8,7 +8,7 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from dip3d_vehicle.link.setpoints import (HEAVE_TABLE, NEUTRAL_STICKS, SURGE_TABLE, SWAY_TABLE, YAW_TABLE,
+from dip3d_vehicle.link.setpoints import (HEAVE_TABLE, NEUTRAL_STICKS, SURGE_TABLE, SWAY_TABLE, YAW_TABLE, YAW_TABLES,
                                           ZERO_GUIDED, guided_from_velocity, manual_control_from_velocity)
 from dip3d_vehicle.servo.command import NEUTRAL, VelocityCommand
 
@@ -89,3 +89,25 @@ def test_type_mask_matches_pymavlink_bits() -> None:
             | m.POSITION_TARGET_TYPEMASK_AY_IGNORE | m.POSITION_TARGET_TYPEMASK_AZ_IGNORE
             | m.POSITION_TARGET_TYPEMASK_YAW_IGNORE)
     assert mask == 1479 and m.MAV_FRAME_BODY_NED == 8
+
+
+@pytest.mark.parametrize("firmware", ["4.5", "4.7"])
+def test_yaw_small_rates_account_for_the_dead_zone(firmware: str) -> None:
+    """Issue 13: r = 171 gave 0.097 rad/s on the 4.7 SITL (the old table assumed 0.146)."""
+    assert abs(manual_control_from_velocity(VelocityCommand(yaw_rate_rad_s=0.097), firmware).r - 171) <= 1
+    assert abs(manual_control_from_velocity(VelocityCommand(yaw_rate_rad_s=0.146), firmware).r - 205) <= 3
+    assert manual_control_from_velocity(VelocityCommand(yaw_rate_rad_s=-0.0435), firmware).r == -130
+
+
+@pytest.mark.parametrize("rate, stick", [(0.211, 250), (0.354, 350), (0.574, 500)])
+def test_yaw_4_7_hits_its_measured_points(rate: float, stick: int) -> None:
+    assert manual_control_from_velocity(VelocityCommand(yaw_rate_rad_s=rate), "4.7").r == stick
+    t = YAW_TABLES["4.7"]
+    assert all(a[0] < b[0] and a[1] < b[1] for a, b in zip(t, t[1:]))
+
+
+def test_small_heave_is_outside_arudsubs_throttle_dead_zone() -> None:
+    """Issue 13: 0.15 m/s down mapped to z = 396, inside THR_DZ (z 400..600 does nothing on the SITL)."""
+    assert manual_control_from_velocity(VelocityCommand(heave_m_s=0.15)).z < 400
+    assert manual_control_from_velocity(VelocityCommand(heave_m_s=-0.15)).z > 600
+    assert abs(manual_control_from_velocity(VelocityCommand(heave_m_s=0.192)).z - 320) <= 1

@@ -47,6 +47,8 @@ def test_run_loop_processes_a_folder_and_talks_to_the_autopilot(tmp_path, capsys
         ap.close()
     out = capsys.readouterr().out
     assert "autopilot first heard" in out and "frames in 4" in out
+    start = next(line for line in out.splitlines() if line.startswith("run: "))
+    assert f"camera {tmp_path}," in start and f"calibration {CALIB}" in start, start  # not the calib as the camera
     from collections import Counter
 
     from pymavlink import mavutil
