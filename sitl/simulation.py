@@ -319,7 +319,7 @@ def sim_params(params: Params, scenario: Scenario, **overrides: Any) -> Params:
     derived = {"servo.mount_forward_m": cam.mount_frd_m[0], "servo.mount_right_m": cam.mount_frd_m[1],
                "servo.mount_down_m": cam.mount_frd_m[2], "servo.mount_pitch_rad": cam.mount_pitch_rad,
                "candidates.image_scale": params["sitl.image_scale"],
-               "pose.backend": pose_backend_for(params["sitl.pose_source"])}
+               "pose.backend": pose_backend_for(overrides.get("sitl.pose_source", params["sitl.pose_source"]))}
     over = {k: v for k, v in derived.items() if params.source(k) == "schema default" or k == "pose.backend"}
     over.update(overrides)
     return params.with_overrides(over, "sitl")
