@@ -26,7 +26,7 @@ import numpy as np
 
 from .world import unit
 
-__all__ = ["BodyModel", "load_body", "pose_body", "PosedBody", "BODY_FILE", "BODY_SCALE", "POINTING_HAND_SCALE"]
+__all__ = ["BodyModel", "load_body", "pose_body", "PosedBody", "BODY_FILE", "BODY_SCALE", "POINTING_HAND_SCALE", "POINTING_FIST_WIDTH"]
 
 BODY_FILE = Path(__file__).resolve().parent / "assets" / "human_body.npz"
 """The packaged body (vertices, faces, materials, bones, weights)."""
@@ -34,8 +34,12 @@ BODY_FILE = Path(__file__).resolve().parent / "assets" / "human_body.npz"
 BODY_SCALE = 1.05
 """Scale of the torso and head (MakeHuman's default body is 1.67 m tall: the diver is 1.75 m)."""
 
-POINTING_HAND_SCALE = 0.6
-"""Length of the pointing hand relative to the open hand: a gloved fist (the mesh has no finger bones)."""
+POINTING_HAND_SCALE = 0.45
+"""Length of the pointing hand relative to the open hand: a gloved fist, about 9 cm from the wrist
+(the mesh has no finger bones to curl)."""
+
+POINTING_FIST_WIDTH = 0.85
+"""Width of the pointing fist relative to the open hand."""
 
 
 @dataclass(frozen=True)
@@ -94,11 +98,12 @@ def _align(a: np.ndarray, b: np.ndarray) -> np.ndarray:
 
 
 def _bone_transform(R_torso: np.ndarray, head0: np.ndarray, tail0: np.ndarray, head_w: np.ndarray,
-                    tail_w: np.ndarray | None, stretch: bool) -> np.ndarray:
+                    tail_w: np.ndarray | None, stretch: bool, across: float = 1.0) -> np.ndarray:
     """Return the (3, 4) transform of a limb bone: rest segment -> target segment (model -> world).
 
     The rest direction carried by the torso is rotated onto the target direction by the smallest
-    rotation; with ``stretch`` the bone is scaled along its axis to the target length.
+    rotation; with ``stretch`` the bone is scaled along its axis to the target length, and by
+    ``across`` perpendicular to it.
     """
     axis0 = unit(tail0 - head0)
     d0 = R_torso @ axis0                      # includes the uniform body scale
@@ -108,7 +113,7 @@ def _bone_transform(R_torso: np.ndarray, head0: np.ndarray, tail0: np.ndarray, h
     M = R.copy()
     if stretch and tail_w is not None:
         k = float(np.linalg.norm(tail_w - head_w)) / (scale * float(np.linalg.norm(tail0 - head0)))
-        M = R @ (np.eye(3) + (k - 1.0) * np.outer(axis0, axis0))
+        M = R @ (across * np.eye(3) + (k - across) * np.outer(axis0, axis0))
     return np.hstack([M, (head_w - M @ head0)[:, None]])
 
 
@@ -143,11 +148,13 @@ def pose_body(model: BodyModel, joints: Mapping[str, np.ndarray], heading_rad: f
         hand = wr + hand_len * hand_dir
         leg = side.lower()
         hip, knee, ankle, fin = (np.asarray(joints[f"{n}_{leg}"], float) for n in ("hip", "knee", "ankle", "fin"))
-        for name, head, tail, stretch in ((f"upperarm.{side}", sh, el, True), (f"lowerarm.{side}", el, wr, True),
-                                          (f"hand.{side}", wr, hand, True), (f"upperleg.{side}", hip, knee, True),
-                                          (f"lowerleg.{side}", knee, ankle, True), (f"foot.{side}", ankle, fin, False)):
+        fist = POINTING_FIST_WIDTH if p == "" else 1.0
+        for name, head, tail, stretch, across in (
+                (f"upperarm.{side}", sh, el, True, 1.0), (f"lowerarm.{side}", el, wr, True, 1.0),
+                (f"hand.{side}", wr, hand, True, fist), (f"upperleg.{side}", hip, knee, True, 1.0),
+                (f"lowerleg.{side}", knee, ankle, True, 1.0), (f"foot.{side}", ankle, fin, False, 1.0)):
             k = b(name)
-            A[k] = _bone_transform(R_torso, model.bone_head_m[k], model.bone_tail_m[k], head, tail, stretch)
+            A[k] = _bone_transform(R_torso, model.bone_head_m[k], model.bone_tail_m[k], head, tail, stretch, across)
     rest_h = np.hstack([model.vertices_m, np.ones((len(model.vertices_m), 1))])
     per_bone = np.einsum("bij,vj->vbi", A, rest_h)                       # (V, B, 3)
     picked = np.take_along_axis(per_bone, model.bone_index[:, :, None], axis=1)

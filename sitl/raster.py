@@ -68,19 +68,29 @@ def draw_mesh(image: np.ndarray, uv_px: np.ndarray, vertices_cam: np.ndarray, fa
         near_m: triangles with a vertex nearer than this are skipped.
     """
     h, w = image.shape[:2]
-    v0, v1, v2 = (vertices_cam[faces[:, k]] for k in range(3))
-    n = np.cross(v1 - v0, v2 - v0)
-    front = np.einsum("ij,ij->i", n, v0) < 0.0
-    z = np.stack([v0[:, 2], v1[:, 2], v2[:, 2]], 1)
-    tri = uv_px[faces]                                            # (F, 3, 2)
-    lo, hi = tri.min(axis=1), tri.max(axis=1)
-    keep = front & (z.min(axis=1) > near_m) & (hi[:, 0] >= 0) & (hi[:, 1] >= 0) & (lo[:, 0] < w) & (lo[:, 1] < h)
-    keep &= np.abs(tri).reshape(len(tri), -1).max(axis=1) < 8 * (w + h)
+    x, y = uv_px[:, 0], uv_px[:, 1]
+    lim = 8 * (w + h)
+    ok_v = (vertices_cam[:, 2] > near_m) & (x > -lim) & (x < lim) & (y > -lim) & (y < lim)
+    fx, fy = x[faces], y[faces]                                   # (F, 3) each
+    a, b, c = fx[:, 0], fx[:, 1], fx[:, 2]
+    on_x = (np.maximum(np.maximum(a, b), c) >= 0) & (np.minimum(np.minimum(a, b), c) < w)
+    a, b, c = fy[:, 0], fy[:, 1], fy[:, 2]
+    on_y = (np.maximum(np.maximum(a, b), c) >= 0) & (np.minimum(np.minimum(a, b), c) < h)
+    ok = ok_v[faces]
+    keep = ok[:, 0] & ok[:, 1] & ok[:, 2] & on_x & on_y
     idx = np.flatnonzero(keep)
     if len(idx) == 0:
         return 0
-    order = idx[np.argsort(-z[idx].sum(axis=1), kind="stable")]
-    pts = np.round(tri[order] * 16.0).astype(np.int32)
+    f = faces[idx]
+    v0, v1, v2 = vertices_cam[f[:, 0]], vertices_cam[f[:, 1]], vertices_cam[f[:, 2]]
+    front = np.einsum("ij,ij->i", np.cross(v1 - v0, v2 - v0), v0) < 0.0
+    idx, f = idx[front], f[front]
+    if len(idx) == 0:
+        return 0
+    depth = vertices_cam[f, 2].sum(axis=1)
+    sort = np.argsort(-depth, kind="stable")
+    order = idx[sort]
+    pts = np.round(uv_px[f[sort]] * 16.0).astype(np.int32)
     cols = colours_bgr[order].tolist()
     fill = cv2.fillConvexPoly
     for p, c in zip(pts, cols):

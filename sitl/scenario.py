@@ -19,6 +19,7 @@ degrees; the dataclasses hold metres and radians. File format (all sections but 
                 size_m, facing: camera | normal_ned [..], texture_seed, role: object|distractor}]
     track_line: under_placards | [[n,e,d], ...] | null
     diver: {positions: [{name, ned_m | range_m + bearing_deg + depth_m}], heading_deg: auto | deg,
+            turn_to_placards_deg,
             arm, target: random | id, target_choices, pointing_error_deg, start_s, hold_s, raise_s,
             sway_amplitude_m, sway_period_s, suit_bgr, tank_bgr, stop_gesture_at_s, stop_gesture_hold_s}
     pose_source: {noise_px, dropout}
@@ -676,7 +677,8 @@ def _diver(n: _Node, ctx: _Context, placards: list[Placard], rng: np.random.Gene
     if heading == "auto":
         centroid = np.mean([p.centre_ned_m for p in placards if p.role == "object"], axis=0)
         side = math.atan2(centroid[1] - chest[1], centroid[0] - chest[0])
-        heading_rad = side - math.pi / 2 if arm == "right" else side + math.pi / 2
+        turn = math.radians(n.num("turn_to_placards_deg", 0.0, 0, 90))
+        heading_rad = side - math.pi / 2 + turn if arm == "right" else side + math.pi / 2 - turn
     else:
         heading_rad = math.radians(n.num("heading_deg", lo=-360, hi=360))
     error_dir = float(rng.uniform(0, 2 * math.pi))
