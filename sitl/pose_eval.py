@@ -9,13 +9,15 @@ projections (``meta["keypoints_truth"]``), over the frames where the arm was fou
 counts found arms closer to the truth of the OTHER arm (BlazePose took the diver's left for right).
 
 Facing: 0 = chest toward the camera, 90 = the pointing arm's side toward the camera;
-``mission`` = the scenario's own heading and target (``paper_pool``: the diver seen from behind,
-pointing at a placard on the right). For 0/45/90 the arm aims 30 degrees forward of the
-diver's side, level, at a small placard 6 m away.
+``mission`` = the scenario's own heading and target (``paper_pool``: the pointing side toward the
+placards on the right, turned 45 degrees toward them); ``behind`` = the same without the turn (the
+diver seen from behind-left, as ``paper_pool`` stood before issue 14). For 0/45/90 the arm aims 30
+degrees forward of the diver's side, level, at a small placard 6 m away. The diver stands 8 degrees
+left of the camera's axis, chest at the camera's depth.
 
 Command line::
 
-    python -m sitl.pose_eval [--ranges 1.5 2.5 3.5 4.5] [--facings 0 45 90 mission]
+    python -m sitl.pose_eval [--ranges 1.5 2.5 3.5 4.5] [--facings 0 45 90 behind mission]
                              [--waters paper_pool murky] [--frames 6] [--json OUT.json]
 """
 
@@ -42,8 +44,10 @@ _CAMERA_START = (0.25, -0.06)  # paper_pool's left camera at the start (vehicle 
 def cell_scenario(base: str, range_m: float, facing: str, seed: int, folder: Path):
     """Return a scenario: ``base``'s water and camera, the diver ``range_m`` ahead facing ``facing``."""
     doc: dict[str, Any] = {"base": base, "description": f"pose_eval {base} {range_m} m facing {facing}"}
-    if facing == "mission":
+    if facing in ("mission", "behind"):
         doc["diver"] = {"positions": [{"name": "eval", "range_m": range_m, "bearing_deg": -8.0, "depth_m": 1.0}]}
+        if facing == "behind":
+            doc["diver"]["turn_to_placards_deg"] = 0.0
     else:
         phi = math.radians(float(facing))
         bearing = math.radians(-8.0)
@@ -183,7 +187,7 @@ def main(argv: list[str] | None = None) -> None:
     """Command line (see the module docstring)."""
     ap = argparse.ArgumentParser(prog="python -m sitl.pose_eval")
     ap.add_argument("--ranges", type=float, nargs="+", default=[1.5, 2.5, 3.5, 4.5])
-    ap.add_argument("--facings", nargs="+", default=["0", "45", "90", "mission"])
+    ap.add_argument("--facings", nargs="+", default=["0", "45", "90", "behind", "mission"])
     ap.add_argument("--waters", nargs="+", default=["paper_pool", "murky"])
     ap.add_argument("--frames", type=int, default=6)
     ap.add_argument("--seed", type=int, default=0)
