@@ -674,10 +674,10 @@ def _diver(n: _Node, ctx: _Context, placards: list[Placard], rng: np.random.Gene
                                 f"({', '.join(str(p.id) for p in placards)})")
     arm = n.text("arm", "right", ("right", "left"))
     heading = n.raw("heading_deg", "auto")
+    turn = math.radians(n.num("turn_to_placards_deg", 0.0, 0, 90))  # used with heading_deg: auto
     if heading == "auto":
         centroid = np.mean([p.centre_ned_m for p in placards if p.role == "object"], axis=0)
         side = math.atan2(centroid[1] - chest[1], centroid[0] - chest[0])
-        turn = math.radians(n.num("turn_to_placards_deg", 0.0, 0, 90))
         heading_rad = side - math.pi / 2 + turn if arm == "right" else side + math.pi / 2 - turn
     else:
         heading_rad = math.radians(n.num("heading_deg", lo=-360, hi=360))
