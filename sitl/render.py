@@ -6,11 +6,13 @@ is precomputed in the constructor, so a frame costs a few small warps and drawin
 1. the background: water (a vertical blue-green gradient) and, where rays hit it, the pool floor,
    attenuated with distance; computed at low resolution from each pixel's ray and resized (it is
    smooth), cached while the camera depth is unchanged;
-2. the track line, the placards and the diver's body parts are painted far to near. A placard is
+2. the track line, the placards and the diver are painted far to near. A placard is
    one cv2.remap of a mip level of its texture (colour attenuated for its distance) over its
    bounding box only: distorted pixel -> undistorted pixel (a map computed once per camera,
-   exact inverse of the lens model) -> texture pixel (the placard's homography). Body parts are
-   thick lines and discs between joints projected with the lens distortion;
+   exact inverse of the lens model) -> texture pixel (the placard's homography). The diver is a
+   skinned human mesh (``body.py``: MakeHuman's body posed on the scenario's joints, with a tank,
+   fins, hood and mask) painted triangle by triangle, flat-shaded and seen through the water
+   (``raster.py``), its vertices projected with the lens distortion;
 3. optional blur, then sensor noise from precomputed noise tiles at seeded random offsets.
 
 The truth in ``frame.meta`` (see ``StereoRenderer.render``) uses cv2.projectPoints with the same
@@ -202,7 +204,11 @@ class StereoRenderer:
             ``keypoints_truth`` (the same without noise and dropouts), ``pointing`` (bool),
             ``target_id``, ``placards`` ({id: {"xyz_cam_m", "left_polygon_px", "visible",
             "range_m", "role"}}), ``vehicle_pose`` (dict), ``joints_cam_m`` (shoulder, elbow,
-            wrist in the left optical frame), ``diver_visible`` (bool).
+            wrist in the left optical frame), ``diver_visible`` (bool), ``body_truth`` (both
+            arms' shoulder / elbow / wrist, the nose and the eyes, BlazePose names such as
+            ``right_wrist``: ``{"left": {name: [x, y]}, "right": ..., "xyz_cam_m": {name: [x, y, z]}}``,
+            an eye None when a point is behind it), ``stop_gesture`` (bool: both wrists held above
+            the head). The arm joints are the body's own skeleton joint centres.
         """
         pose = VehiclePose(float(north_m), float(east_m), float(depth_m), float(yaw_rad))
         poses = self.camera_poses(pose)
