@@ -1,6 +1,6 @@
 """Convert MakeHuman's base mesh, default skeleton and skin weights into ``sitl/assets/human_body.npz``.
 
-Dev-time only (needs ``fast-simplification``: ``pip install fast-simplification``); the simulator
+Dev-time only (needs ``fast-simplification``: ``pip install .[body]``); the simulator
 reads the ``.npz``. Inputs, from https://github.com/makehumancommunity/makehuman at commit
 a8bc2d54ff0ac92e78ff71431b1023eda42bf482 (assets CC0 1.0, ``LICENSE.ASSETS.md``):
 
