@@ -9,9 +9,11 @@ selection accuracy and the ratio of each profile's frame rate to ``paper``'s.
 
 Pose: every profile's pose backend is BlazePose, timed for real on every frame (``paper`` runs it
 as the paper ran MediaPipe: detection on both images every frame, no tracking). The simulator's
-diver is a cartoon that BlazePose does not always find; on such frames the rest of the pipeline
-uses the simulator's noisy truth keypoints (``meta["keypoints"]``), as it does when BlazePose's
-arm is below ``pose.min_confidence``; the report counts which frames used which (``pose_source``). The hybrid is ``BenchPose`` below, not a pose backend.
+diver is a skinned human mesh (``sitl/body.py``) that BlazePose finds; should it miss the diver
+on a frame, or give an arm below ``pose.min_confidence``, the rest of the pipeline uses the
+simulator's noisy truth keypoints (``meta["keypoints"]``) for that frame and the report counts
+which frames used which (``pose_source``; on the bundled scenes every frame is BlazePose's). The
+hybrid is ``BenchPose`` below, not a pose backend.
 
 Accuracy (simulated frames): a frame is correct when the selected target's left-image point
 (original pixels) lies inside the intended placard's polygon (``meta["placards"][id]``).
@@ -155,8 +157,7 @@ class BenchPose(PoseEstimator):
     """BlazePose on every frame; the frame's given keypoints when BlazePose gives no usable arm.
 
     Usable = a person found and every arm keypoint's confidence at least ``min_confidence`` (the
-    pipeline's ``pose.min_confidence``): the simulator's cartoon diver often yields a person with a
-    low-confidence wrist. ``provide(keypoints)`` before each frame (None when the source has none).
+    pipeline's ``pose.min_confidence``). ``provide(keypoints)`` before each frame (None when the source has none).
     ``last_source`` is "blazepose", "truth (no person)", "truth (low confidence)" or "none";
     ``counts`` sums them.
     """

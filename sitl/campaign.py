@@ -1,10 +1,11 @@
 """Closed-loop campaigns: the mission over many seeds, and the safety figures over many trials.
 
-    python -m sitl.campaign mission [--per-position 10] [--jobs 2] [--json FILE]
+    python -m sitl.campaign mission [--per-position 10] [--jobs 2] [--json FILE] [--scenario NAME]
+                                    [--positions A,B] [--set KEY=VALUE ...]
     python -m sitl.campaign safety  [--trials 20] [--jobs 2] [--json FILE]
 
-``mission``: ``paper_pool`` seeds 0, 1, 2, ... until ``--per-position`` seeds of each diver position
-(the paper's 2 and 3) have run; a run succeeds when the mission arrived at the placard the diver
+``mission``: ``paper_pool`` (or ``--scenario``) seeds 0, 1, 2, ... until ``--per-position`` seeds of
+each diver position (paper_pool: the paper's 2 and 3) have run; a run succeeds when the mission arrived at the placard the diver
 points at with the true range at arrival within ``behaviour.arrive_tolerance_m`` of the stand-off.
 Prints one line per run and the arrivals per position, time to arrive and range errors.
 
@@ -47,9 +48,10 @@ def _run_one(args: tuple) -> dict:
     from dip3d_vehicle.config import load_params
     from sitl.simulation import Fault, run_mission
 
-    seed, fault, overrides = args
-    params = load_params()
-    result, _ = run_mission("paper_pool", seed, params, fault=Fault(**fault) if fault else None, **overrides)
+    seed, fault, overrides = args[:3]
+    scenario, sets = (args[3], args[4]) if len(args) > 3 else ("paper_pool", {})
+    params = load_params(overrides=sets) if sets else load_params()
+    result, _ = run_mission(scenario, seed, params, fault=Fault(**fault) if fault else None, **overrides)
     out = result.to_json()
     out["story_tail"] = result.story[-12:]
     return out
@@ -74,27 +76,31 @@ def _stats(values: list[float]) -> str:
 
 
 def mission_campaign(per_position: int = 10, jobs: int = 2, max_seed: int = 200,
-                     positions: tuple[str, ...] = ("2", "3")) -> dict:
-    """Run paper_pool until ``per_position`` seeds per diver position; return the summary."""
+                     positions: tuple[str, ...] = ("2", "3"), scenario: str = "paper_pool",
+                     sets: dict | None = None) -> dict:
+    """Run ``scenario`` until ``per_position`` seeds per diver position; return the summary.
+
+    ``sets``: parameter overrides (``key: value``) for every run, e.g. ``sitl.pose_source``.
+    """
     from sitl.scenario import load_scenario
 
     chosen: dict[str, list[int]] = {p: [] for p in positions}
     for seed in range(max_seed):
-        pos = load_scenario("paper_pool", seed).diver.position_name
+        pos = load_scenario(scenario, seed).diver.position_name
         if pos in chosen and len(chosen[pos]) < per_position:
             chosen[pos].append(seed)
         if all(len(v) >= per_position for v in chosen.values()):
             break
     seeds = sorted(s for v in chosen.values() for s in v)
     runs = []
-    print(f"mission campaign: paper_pool seeds {seeds}", flush=True)
-    for r in _pool_map([(s, None, {}) for s in seeds], jobs):
+    print(f"mission campaign: {scenario} seeds {seeds} {sets or ''}", flush=True)
+    for r in _pool_map([(s, None, {}, scenario, dict(sets or {})) for s in seeds], jobs):
         runs.append(r)
         print(f"seed {r['seed']:3d} pos {r['diver_position']} target {r['target_id']} chosen {r['chosen_id']} "
               f"outcome {r['outcome']} t_arrive {r['time_to_arrive_s']} "
               f"range@arrival {r['range_at_arrival_m']} err {r['range_error_at_arrival_m']} "
               f"final {r['final_range_m']} px {r['final_pixel_error_px']} sim {r['sim_time_s']} "
-              f"wall {r['wall_time_s']}", flush=True)
+              f"wall {r['wall_time_s']} pose {r.get('pose_source')}", flush=True)
     summary: dict[str, Any] = {"runs": runs, "per_position": {}}
     for pos in positions:
         rs = [r for r in runs if r["diver_position"] == pos]
@@ -184,18 +190,46 @@ def summarise_safety(results: dict[str, list[dict]]) -> dict:
     return out
 
 
+def _positions(scenario: str, text: str | None) -> tuple[str, ...]:
+    """Return the diver positions to run: the given ones, or every position the scenario lists."""
+    if text:
+        return tuple(text.split(","))
+    from sitl.scenario import load_scenario
+
+    doc = load_scenario(scenario, 0).raw["diver"]["positions"]
+    return tuple(str(p.get("name", i + 1)) for i, p in enumerate(doc))
+
+
+def _sets(items: list[str]) -> dict:
+    """Return ``KEY=VALUE`` overrides as a dict (values parsed as YAML scalars)."""
+    import yaml
+
+    out = {}
+    for item in items:
+        key, sep, value = item.partition("=")
+        if not sep:
+            raise SystemExit(f"--set {item!r}: expected KEY=VALUE")
+        out[key.strip()] = yaml.safe_load(value)
+    return out
+
+
 def main(argv: list[str] | None = None) -> int:
     """Command line: ``mission`` or ``safety``."""
     ap = argparse.ArgumentParser(prog="python -m sitl.campaign", description=__doc__.split("\n")[0])
     ap.add_argument("which", choices=["mission", "safety"])
     ap.add_argument("--per-position", type=int, default=10)
-    ap.add_argument("--positions", default="2,3", help="diver positions, comma-separated (mission)")
+    ap.add_argument("--positions", default=None,
+                    help="diver positions, comma-separated (mission; default: every position of the scenario)")
+    ap.add_argument("--scenario", default="paper_pool", help="built-in scenario name or file (mission)")
+    ap.add_argument("--set", dest="sets", action="append", default=[], metavar="KEY=VALUE",
+                    help="parameter override for every run (mission; repeatable), e.g. sitl.pose_source=blazepose")
     ap.add_argument("--trials", type=int, default=20)
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--json", metavar="FILE")
     args = ap.parse_args(argv)
     if args.which == "mission":
-        out = mission_campaign(args.per_position, args.jobs, positions=tuple(args.positions.split(",")))
+        out = mission_campaign(args.per_position, args.jobs, positions=_positions(args.scenario, args.positions),
+                               scenario=args.scenario, sets=_sets(args.sets))
     else:
         out = safety_campaign(args.trials, args.jobs)
     if args.json:

@@ -6,11 +6,13 @@ is precomputed in the constructor, so a frame costs a few small warps and drawin
 1. the background: water (a vertical blue-green gradient) and, where rays hit it, the pool floor,
    attenuated with distance; computed at low resolution from each pixel's ray and resized (it is
    smooth), cached while the camera depth is unchanged;
-2. the track line, the placards and the diver's body parts are painted far to near. A placard is
+2. the track line, the placards and the diver are painted far to near. A placard is
    one cv2.remap of a mip level of its texture (colour attenuated for its distance) over its
    bounding box only: distorted pixel -> undistorted pixel (a map computed once per camera,
-   exact inverse of the lens model) -> texture pixel (the placard's homography). Body parts are
-   thick lines and discs between joints projected with the lens distortion;
+   exact inverse of the lens model) -> texture pixel (the placard's homography). The diver is a
+   skinned human mesh (``body.py``: MakeHuman's body posed on the scenario's joints, with a tank,
+   fins, hood and mask) painted triangle by triangle, flat-shaded and seen through the water
+   (``raster.py``), its vertices projected with the lens distortion;
 3. optional blur, then sensor noise from precomputed noise tiles at seeded random offsets.
 
 The truth in ``frame.meta`` (see ``StereoRenderer.render``) uses cv2.projectPoints with the same
@@ -32,6 +34,8 @@ import numpy as np
 
 from dip3d_vehicle.frames import StereoFrame
 
+from .body import PosedBody, load_body, pose_body
+from .raster import draw_mesh, face_normals, shade_faces
 from .scenario import Diver, Placard, Scenario, Water, load_scenario
 from .textures import mip_levels, placard_texture
 from .world import (CameraPose, VehiclePose, left_camera_pose, project_distorted, project_pinhole,
@@ -163,6 +167,9 @@ class StereoRenderer:
         self.textures = {p.id: mip_levels(placard_texture(p.id, p.texture_seed, tex_px))
                          for p in scenario.placards}
         self._noise = _noise_tiles(scenario.water.noise_sigma, self.size, scenario.seed)
+        self.body = load_body()
+        self._body_albedo = _body_albedo(self.body, scenario.diver)
+        self._gloves = self.body.face_material == self.body.materials.index("glove")
         threads = int(self.params["threads"])
         self._pool = ThreadPoolExecutor(2) if threads > 1 else None
         self._count = 0
@@ -197,27 +204,34 @@ class StereoRenderer:
             ``keypoints_truth`` (the same without noise and dropouts), ``pointing`` (bool),
             ``target_id``, ``placards`` ({id: {"xyz_cam_m", "left_polygon_px", "visible",
             "range_m", "role"}}), ``vehicle_pose`` (dict), ``joints_cam_m`` (shoulder, elbow,
-            wrist in the left optical frame), ``diver_visible`` (bool).
+            wrist in the left optical frame), ``diver_visible`` (bool), ``body_truth`` (both
+            arms' shoulder / elbow / wrist, the nose and the eyes, BlazePose names such as
+            ``right_wrist``: ``{"left": {name: [x, y]}, "right": ..., "xyz_cam_m": {name: [x, y, z]}}``,
+            an eye None when a point is behind it), ``stop_gesture`` (bool: both wrists held above
+            the head). The arm joints are the body's own skeleton joint centres.
         """
         pose = VehiclePose(float(north_m), float(east_m), float(depth_m), float(yaw_rad))
         poses = self.camera_poses(pose)
         sc = self.scenario
         target = sc.placard(sc.target_id)
         joints = sc.diver.joints(np.asarray(target.centre_ned_m), t_s)
+        body = pose_body(self.body, joints, sc.diver.heading_rad, sc.diver.arm)
         ms = int(round(t_s * 1000.0)) % (2 ** 32)
         rng = np.random.default_rng([sc.seed, ms, 2])
         offsets = rng.integers(0, 64, size=(2, 2)) if self._noise is not None else None
         if self._pool is not None:
-            futures = [self._pool.submit(self._render_view, i, poses[i], joints, offsets) for i in range(2)]
+            futures = [self._pool.submit(self._render_view, i, poses[i], joints, body, offsets) for i in range(2)]
             left, right = (f.result() for f in futures)
         else:
-            left, right = (self._render_view(i, poses[i], joints, offsets) for i in range(2))
+            left, right = (self._render_view(i, poses[i], joints, body, offsets) for i in range(2))
         meta = self._truth(pose, poses, joints, t_s, ms)
+        meta["body_truth"] = self._body_truth(poses, joints, body)
+        meta["stop_gesture"] = sc.diver.stop_gesture_at(t_s)
         self._count += 1
         return StereoFrame(left=left, right=right, stamp_s=float(t_s), index=self._count - 1, meta=meta)
 
     # -- images ----------------------------------------------------------------------------
-    def _render_view(self, i: int, cam: CameraPose, joints: dict, offsets) -> np.ndarray:
+    def _render_view(self, i: int, cam: CameraPose, joints: dict, body: PosedBody, offsets) -> np.ndarray:
         """Render one camera's original (distorted) image."""
         view = self.views[i]
         water = self.scenario.water
@@ -225,12 +239,12 @@ class StereoRenderer:
         self._draw_track(image, view, cam)
         items = [(d, "placard", p) for p in self.scenario.placards
                  if (d := float(np.linalg.norm(cam.to_cam(p.centre_ned_m)))) > 0]
-        items += [(d, "part", part) for d, part in _diver_parts(self.scenario.diver, joints, cam)]
+        items.append((float(np.linalg.norm(cam.to_cam(joints["chest"]))), "body", body))
         for dist, kind, obj in sorted(items, key=lambda it: -it[0]):
             if kind == "placard":
                 self._draw_placard(image, view, cam, obj, dist)
             else:
-                _draw_part(image, view, obj, water.apply(obj["colour"], dist))
+                self._draw_body(image, view, cam, obj)
         if water.blur_px > 0:
             cv2.GaussianBlur(image, (0, 0), water.blur_px, dst=image)
         if offsets is not None and self.params["render_noise"]:
@@ -239,6 +253,42 @@ class StereoRenderer:
             cv2.add(image, pos[oy:oy + h, ox:ox + w], dst=image)
             cv2.subtract(image, neg[oy:oy + h, ox:ox + w], dst=image)
         return image
+
+    def _draw_body(self, image: np.ndarray, view: _View, cam: CameraPose, body: PosedBody) -> None:
+        """Paint the diver's posed body mesh (flat-shaded, through the water)."""
+        verts = cam.to_cam(body.vertices_ned_m)
+        if verts[:, 2].max() < 0.1:
+            return
+        faces = self.body.faces
+        front = verts[:, 2] > 0.05
+        uv = np.full((len(verts), 2), -1e6)
+        uv[front] = view.project(verts[front])
+        normals = face_normals(verts, faces)
+        centres = verts[faces].mean(axis=1)
+        up_cam = -cam.R_cw[:, 2]
+        colours = shade_faces(self._body_albedo, normals, centres, up_cam, self.scenario.water, self._gloves)
+        draw_mesh(image, uv, verts, faces, colours)
+
+    def _body_truth(self, poses: tuple[CameraPose, CameraPose], joints: dict, body: PosedBody) -> dict:
+        """Return both arms' joints, the shoulders and the nose (BlazePose names) in both images."""
+        arm = self.scenario.diver.arm
+        other = "left" if arm == "right" else "right"
+        names = {f"{arm}_shoulder": "shoulder", f"{arm}_elbow": "elbow", f"{arm}_wrist": "wrist",
+                 f"{other}_shoulder": "o_shoulder", f"{other}_elbow": "o_elbow", f"{other}_wrist": "o_wrist"}
+        pts = {k: np.asarray(joints[v], float) for k, v in names.items()}
+        pts.update({k: np.asarray(body.landmarks_ned_m[k], float) for k in ("nose", "left_eye", "right_eye")})
+        keys = list(pts)
+        world = np.array([pts[k] for k in keys])
+        out: dict[str, Any] = {"xyz_cam_m": {k: [float(v) for v in p] for k, p in zip(keys, poses[0].to_cam(world))}}
+        cam = self.scenario.camera
+        for side, cpose, D in (("left", poses[0], cam.D1), ("right", poses[1], cam.D2)):
+            pc = cpose.to_cam(world)
+            if np.any(pc[:, 2] < 0.1):
+                out[side] = None
+                continue
+            px = project_distorted(pc, self.K, D)
+            out[side] = {k: [float(x), float(y)] for k, (x, y) in zip(keys, px)}
+        return out
 
     def _draw_track(self, image: np.ndarray, view: _View, cam: CameraPose) -> None:
         """Paint the track line on the floor (drawn first: it lies under everything else)."""
@@ -374,46 +424,23 @@ def _noise_tiles(sigma: float, size: tuple[int, int], seed: int):
     return pos, neg
 
 
-def _diver_parts(diver: Diver, j: dict, cam: CameraPose) -> list[tuple[float, dict]]:
-    """Return the diver's body parts as (distance, part) with camera-frame geometry."""
-    suit, tank = diver.suit_bgr, diver.tank_bgr
-    glove = (30, 30, 30)
-    specs = [  # (kind, joints, radius_m, colour)
-        ("line", ("hip_r", "knee_r"), 0.075, suit), ("line", ("knee_r", "ankle_r"), 0.06, suit),
-        ("line", ("hip_l", "knee_l"), 0.075, suit), ("line", ("knee_l", "ankle_l"), 0.06, suit),
-        ("line", ("ankle_r", "fin_r"), 0.07, (20, 20, 20)), ("line", ("ankle_l", "fin_l"), 0.07, (20, 20, 20)),
-        ("line", ("chest", "pelvis"), 0.16, suit), ("line", ("tank_top", "tank_bottom"), 0.085, tank),
-        ("line", ("neck", "head"), 0.06, suit), ("circle", ("head",), 0.12, (25, 25, 25)),
-        ("line", ("shoulder", "elbow"), 0.055, suit), ("line", ("elbow", "wrist"), 0.045, suit),
-        ("circle", ("hand",), 0.05, glove),
-        ("line", ("o_shoulder", "o_elbow"), 0.055, suit), ("line", ("o_elbow", "o_wrist"), 0.045, suit),
-        ("line", ("shoulder", "o_shoulder"), 0.07, suit),
-    ]
-    out = []
-    for kind, names, radius, colour in specs:
-        pts = cam.to_cam(np.array([j[n] for n in names]))
-        if np.any(pts[:, 2] < 0.1):
-            continue
-        out.append((float(np.linalg.norm(pts.mean(0))),
-                    {"kind": kind, "pts": pts, "radius": radius, "colour": colour}))
-    return out
+_MATERIAL_BGR = {"hood": None, "skin": (125.0, 145.0, 190.0), "mask": (75.0, 65.0, 55.0),
+                 "glove": (32.0, 30.0, 28.0), "fin": (22.0, 22.0, 24.0)}
 
 
-def _draw_part(image: np.ndarray, view: _View, part: dict, colour) -> None:
-    """Paint one body part (thick line with round caps, or a disc) with sub-pixel precision."""
-    pts = part["pts"]
-    uv = view.project(pts)
-    if np.abs(uv).max() > 1e5:
-        return
-    uv = np.round(uv * 16).astype(np.int64)
-    z = float(pts[:, 2].mean())
-    radius_px = part["radius"] * view.K[0, 0] / z
-    if part["kind"] == "circle":
-        cv2.circle(image, (int(uv[0, 0]), int(uv[0, 1])), max(16, int(radius_px * 16)), colour, -1,
-                   cv2.LINE_AA, 4)
-    else:
-        cv2.line(image, (int(uv[0, 0]), int(uv[0, 1])), (int(uv[1, 0]), int(uv[1, 1])), colour,
-                 max(1, int(round(2 * radius_px))), cv2.LINE_AA, 4)
+def _body_albedo(model, diver: Diver) -> np.ndarray:
+    """Return the (F, 3) albedo of the body's faces: the scenario's suit and tank, the rest fixed."""
+    table = []
+    for name in model.materials:
+        if name == "suit":
+            table.append(diver.suit_bgr)
+        elif name == "hood":
+            table.append(tuple(0.8 * c for c in diver.suit_bgr))
+        elif name == "tank":
+            table.append(diver.tank_bgr)
+        else:
+            table.append(_MATERIAL_BGR[name])
+    return np.asarray(table, float)[model.face_material]
 
 
 def _bench(argv: list[str] | None = None) -> None:

@@ -19,8 +19,9 @@ degrees; the dataclasses hold metres and radians. File format (all sections but 
                 size_m, facing: camera | normal_ned [..], texture_seed, role: object|distractor}]
     track_line: under_placards | [[n,e,d], ...] | null
     diver: {positions: [{name, ned_m | range_m + bearing_deg + depth_m}], heading_deg: auto | deg,
+            turn_to_placards_deg,
             arm, target: random | id, target_choices, pointing_error_deg, start_s, hold_s, raise_s,
-            sway_amplitude_m, sway_period_s, suit_bgr, tank_bgr}
+            sway_amplitude_m, sway_period_s, suit_bgr, tank_bgr, stop_gesture_at_s, stop_gesture_hold_s}
     pose_source: {noise_px, dropout}
 
 ``range_m`` / ``bearing_deg`` are measured from the left camera at the vehicle's start pose
@@ -177,6 +178,8 @@ class Diver:
         start_s, hold_s: pointing holds from start_s for hold_s seconds.
         raise_s: time to raise (before start_s) and lower (after) the arm.
         sway_amplitude_m, sway_period_s: slow body sway.
+        stop_gesture_at_s, stop_gesture_hold_s: both wrists held above the head from this time
+            (None: never) for this long, raised and lowered over raise_s; the pointing arm joins in.
     """
 
     position_name: str
@@ -193,10 +196,25 @@ class Diver:
     sway_period_s: float = 7.0
     suit_bgr: tuple[float, float, float] = (40.0, 35.0, 30.0)
     tank_bgr: tuple[float, float, float] = (30.0, 200.0, 230.0)
+    stop_gesture_at_s: float | None = None
+    stop_gesture_hold_s: float = 3.0
 
     def pointing_at(self, t_s: float) -> bool:
-        """Return True while the arm is fully raised and held on the target."""
-        return self.start_s <= t_s < self.start_s + self.hold_s
+        """Return True while the arm is fully raised and held on the target (not during a stop gesture)."""
+        return self.start_s <= t_s < self.start_s + self.hold_s and self.stop_fraction(t_s) == 0.0
+
+    def stop_gesture_at(self, t_s: float) -> bool:
+        """Return True while both wrists are held above the head (the stop gesture)."""
+        s = self.stop_gesture_at_s
+        return s is not None and s <= t_s < s + self.stop_gesture_hold_s
+
+    def stop_fraction(self, t_s: float) -> float:
+        """Return how far both arms are raised into the stop gesture (ramps of raise_s around it)."""
+        s = self.stop_gesture_at_s
+        if s is None:
+            return 0.0
+        r = max(self.raise_s, 1e-6)
+        return float(np.clip(min((t_s - (s - r)) / r, ((s + self.stop_gesture_hold_s + r) - t_s) / r), 0.0, 1.0))
 
     def raised_fraction(self, t_s: float) -> float:
         """Return how far the arm is raised: 0 hanging, 1 pointing (linear ramps of raise_s)."""
@@ -257,6 +275,14 @@ class Diver:
         j["hand"] = j["wrist"] + 0.09 * arm_dir
         j["o_elbow"] = j["o_shoulder"] + UPPER_ARM_M * unit(down - 0.18 * side)
         j["o_wrist"] = j["o_elbow"] + FOREARM_M * unit(down + 0.35 * fwd - 0.1 * side)
+        g = 0.0 if exact else self.stop_fraction(t_s)
+        if g > 0.0:  # both arms up and out, forearms up: the wrists above the head
+            for p, s in (("", side), ("o_", -side)):
+                upper = unit((1 - g) * unit(j[p + "elbow"] - j[p + "shoulder"]) + g * unit(-down + 0.55 * s + 0.1 * fwd))
+                fore = unit((1 - g) * unit(j[p + "wrist"] - j[p + "elbow"]) + g * unit(-down + 0.1 * s + 0.15 * fwd))
+                j[p + "elbow"] = j[p + "shoulder"] + UPPER_ARM_M * upper
+                j[p + "wrist"] = j[p + "elbow"] + FOREARM_M * fore
+            j["hand"] = j["wrist"] + 0.09 * unit(j["wrist"] - j["elbow"])
         return j
 
 
@@ -648,10 +674,11 @@ def _diver(n: _Node, ctx: _Context, placards: list[Placard], rng: np.random.Gene
                                 f"({', '.join(str(p.id) for p in placards)})")
     arm = n.text("arm", "right", ("right", "left"))
     heading = n.raw("heading_deg", "auto")
+    turn = math.radians(n.num("turn_to_placards_deg", 0.0, 0, 90))  # used with heading_deg: auto
     if heading == "auto":
         centroid = np.mean([p.centre_ned_m for p in placards if p.role == "object"], axis=0)
         side = math.atan2(centroid[1] - chest[1], centroid[0] - chest[0])
-        heading_rad = side - math.pi / 2 if arm == "right" else side + math.pi / 2
+        heading_rad = side - math.pi / 2 + turn if arm == "right" else side + math.pi / 2 - turn
     else:
         heading_rad = math.radians(n.num("heading_deg", lo=-360, hi=360))
     error_dir = float(rng.uniform(0, 2 * math.pi))
@@ -664,7 +691,9 @@ def _diver(n: _Node, ctx: _Context, placards: list[Placard], rng: np.random.Gene
                 sway_amplitude_m=n.num("sway_amplitude_m", 0.03, 0, 1),
                 sway_period_s=n.num("sway_period_s", 7.0, 0.1, 1000),
                 suit_bgr=n.vec("suit_bgr", 3, Diver.suit_bgr, 0, 255),
-                tank_bgr=n.vec("tank_bgr", 3, Diver.tank_bgr, 0, 255))
+                tank_bgr=n.vec("tank_bgr", 3, Diver.tank_bgr, 0, 255),
+                stop_gesture_at_s=n.num("stop_gesture_at_s", None, 0),
+                stop_gesture_hold_s=n.num("stop_gesture_hold_s", 3.0, 0, 1000))
     n.done()
     return out
 

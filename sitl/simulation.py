@@ -37,11 +37,11 @@ from behaviours.loop import Controller, FrameProcessor, build_mission, observati
 from dip3d_vehicle.clock import SimClock
 from dip3d_vehicle.config import Params, load_params
 from dip3d_vehicle.link import MAV_CMD_USER_1, VehicleLink
-from dip3d_vehicle.perception.keypoints_file import GivenKeypoints
 from dip3d_vehicle.perception.pipeline import Perception
 
 from .autopilot import Autopilot
 from .dynamics import VehicleState
+from .pose_source import SimPose, pose_backend_for
 from .render import StereoRenderer
 from .scenario import Scenario, load_scenario
 from .outcome import mission_outcome
@@ -304,6 +304,7 @@ class SimResult:
     fault: dict | None = None
     safety: dict = field(default_factory=dict)
     counters: dict = field(default_factory=dict)
+    pose_source: dict = field(default_factory=dict)
 
     def to_json(self) -> dict:
         """Return the JSON object of ``dip3d-vehicle sitl --json`` (``outcome``: see sitl/outcome.py)."""
@@ -312,6 +313,7 @@ class SimResult:
             "arrived", "target_id", "chosen_id", "final_range_m", "sim_time_s", "states", "scenario",
             "seed", "diver_position", "reached", "time_to_arrive_s", "final_range_error_m",
             "final_pixel_error_px", "range_at_arrival_m", "range_error_at_arrival_m", "wall_time_s", "counters")}
+        out["pose_source"] = self.pose_source
         if self.fault is not None:
             out["fault"], out["safety"] = self.fault, self.safety
         return out
@@ -323,7 +325,8 @@ def sim_params(params: Params, scenario: Scenario, **overrides: Any) -> Params:
     cam = scenario.camera
     derived = {"servo.mount_forward_m": cam.mount_frd_m[0], "servo.mount_right_m": cam.mount_frd_m[1],
                "servo.mount_down_m": cam.mount_frd_m[2], "servo.mount_pitch_rad": cam.mount_pitch_rad,
-               "candidates.image_scale": params["sitl.image_scale"], "pose.backend": "keypoints"}
+               "candidates.image_scale": params["sitl.image_scale"],
+               "pose.backend": pose_backend_for(overrides.get("sitl.pose_source", params["sitl.pose_source"]))}
     over = {k: v for k, v in derived.items() if params.source(k) == "schema default" or k == "pose.backend"}
     over.update(overrides)
     return params.with_overrides(over, "sitl")
@@ -364,7 +367,7 @@ class Simulation:
         self.router.step()
         self.rig = scenario.rig(params["calib.alpha"])
         self.renderer = StereoRenderer(scenario, params)
-        self.pose = GivenKeypoints(params["pose.arm"])
+        self.pose = SimPose(params)
         self.perception = Perception(self.rig, params, self.pose)
         self.processor = FrameProcessor(self.perception, lambda f: self.pose.provide(f.meta["keypoints"]))
         self.mission = build_mission(params, self.rig, scenario.camera.image_size)
@@ -573,7 +576,8 @@ class Simulation:
             counters={"frames": dict(self.processor.processed), "ticks": len(self.ticks),
                       "statustext_sent": self.controller.sent["statustext"],
                       "received_commands": len(self.received),
-                      "received_motion": sum(r.motion for r in self.received)})
+                      "received_motion": sum(r.motion for r in self.received)},
+            pose_source={k: v for k, v in self.pose.counts.items() if v})
 
     def safety(self) -> dict:
         """Return the safety numbers of a fault run (times relative to the fault / its detection)."""

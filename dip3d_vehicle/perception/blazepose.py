@@ -27,6 +27,7 @@ from ..models import model_path
 from .blazepose_decode import DETECTOR_SIZE, decode, weighted_nms
 from .blazepose_roi import Roi, crop_matrix, letterbox_matrix, roi_from_points, warp
 from .calibration import StereoRig
+from .joint_stereo import match_joint_disparity
 from .pose import ARM_INDICES, PoseEstimator
 from .values import ArmKeypoints
 
@@ -318,8 +319,13 @@ class BlazePoseEstimator(PoseEstimator):
     name = "blazepose"
 
     def __init__(self, pose: BlazePose, arm: str = "right", tracking: bool = True,
-                 stereo_search: str = "roi", max_disparity_px: float = 400.0) -> None:
+                 stereo_search: str = "roi", max_disparity_px: float = 400.0,
+                 joint_disparity: str = "landmarks") -> None:
         """Wrap a ``BlazePose``; ``stereo_search`` is "roi" (search along rows) or "detect".
+
+        ``joint_disparity``: "landmarks" = the right image's landmarks as BlazePose places them;
+        "match" = each arm joint's right position found by patch matching along its rectified
+        row around them (``joint_stereo.match_joint_disparity``).
 
         Keypoints are returned whatever their confidence: the pipeline applies
         ``pose.min_confidence`` (and reports ``pose_low_confidence`` rather than ``no_pose``).
@@ -333,6 +339,9 @@ class BlazePoseEstimator(PoseEstimator):
         self.tracking = bool(tracking)
         self.stereo_search = stereo_search
         self.max_disparity_px = float(max_disparity_px)
+        if joint_disparity not in ("landmarks", "match"):
+            raise ValueError(f"joint_disparity must be 'landmarks' or 'match', not {joint_disparity!r}")
+        self.joint_disparity = joint_disparity
         self.stats = StereoStats()
         self.last: tuple[PoseLandmarks | None, PoseLandmarks | None] = (None, None)
         self._left, self._right = _Track(), _Track()
@@ -342,7 +351,8 @@ class BlazePoseEstimator(PoseEstimator):
         """Build from parameters ``pose.arm`` and ``blazepose.*``."""
         return cls(BlazePose.from_params(params), arm=params["pose.arm"], tracking=params["blazepose.tracking"],
                    stereo_search=params["blazepose.stereo_search"],
-                   max_disparity_px=params["blazepose.max_disparity_px"])
+                   max_disparity_px=params["blazepose.max_disparity_px"],
+                   joint_disparity=params.get("blazepose.joint_disparity", "landmarks"))
 
     def reset(self) -> None:
         """Forget both cameras' tracking state."""
@@ -360,6 +370,8 @@ class BlazePoseEstimator(PoseEstimator):
         if left is None or right is None:
             return None
         (lxy, lconf), (rxy, rconf) = left.arm(self.arm), right.arm(self.arm)
+        if self.joint_disparity == "match":
+            rxy = match_joint_disparity(left_rect, right_rect, lxy, rxy, rig.disparity_sign)
         return ArmKeypoints(self.arm, lxy, rxy, lconf, rconf, source="blazepose")
 
     def _follow(self, image: np.ndarray, track: _Track) -> PoseLandmarks | None:

@@ -68,6 +68,8 @@ def test_paper_pool_mission_reaches_the_pointed_placard():
     for state in ("wait_for_diver", "confirm_point", "select_target", "acknowledge", "servo", "arrive", "done"):
         assert state in names
     assert abs(result.range_error_at_arrival_m) <= 0.10
+    sources = result.to_json()["pose_source"]  # frames per pose source, as sitl --json reports them
+    assert sum(sources.values()) == result.counters["frames"]["full"] > 0
 
 
 @pytest.mark.slow
