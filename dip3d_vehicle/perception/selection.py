@@ -339,6 +339,8 @@ class OpenSet:
         none_min_probability: "nothing detected" is the answer only at or above this probability
             (telling the diver "nothing there" needs confidence too); below it, when it merely
             leads, the best object is returned flagged ambiguous.
+        same_target_gap_m: objects whose points come this close to the chosen one's are parts of
+            the same target (a placard split into fragments): the confidence is their summed probability.
     """
 
     none_prior: float = 0.25
@@ -346,6 +348,7 @@ class OpenSet:
     gate_sigmas: float = 4.0
     gate_min_rad: float = 0.26
     none_min_probability: float = 0.75
+    same_target_gap_m: float = 0.1
 
 
 def image_gate(arm: ArmKeypoints, objects: list[ObjectCandidate], points_px: list[np.ndarray], rig: StereoRig,
@@ -425,13 +428,16 @@ class DefaultSelector(PointingSelector):
         margin = (ranked[0] - ranked[1]) if len(ranked) > 1 else math.inf
         # "nothing detected" is the answer when it is the confident winner (or no object is allowed);
         # when it merely leads, the best object is returned flagged ambiguous: no decision either way
-        if not np.isfinite(log_odds[best]) or (p_none >= post[best] and p_none >= self.open_set.none_min_probability):
-            why = (f"the arm points at nothing detected (P {p_none:.2f}); best object P {post[best]:.2f}"
+        # fragments of one object (a placard split by its own texture, or its edge) are one target:
+        # the best object's probability is that of every object whose points touch it
+        mass = float(post[_touching(objects, xyz_m, best, self.open_set.same_target_gap_m)].sum())
+        if not np.isfinite(log_odds[best]) or (p_none >= mass and p_none >= self.open_set.none_min_probability):
+            why = (f"the arm points at nothing detected (P {p_none:.2f}); best object P {mass:.2f}"
                    if np.isfinite(log_odds[best]) else
                    f"the arm points at nothing detected: every object lies outside the arm's direction in the image")
             return Selection(None, tuple(objects), post, float(p_none), float(margin), self.method,
                              p_none < self.min_confidence, float(p_none), why)
-        confidence = float(post[best])
+        confidence = mass
         return Selection(best, tuple(objects), post, confidence, float(margin), self.method,
                          confidence < self.min_confidence, float(p_none))
 
@@ -459,6 +465,17 @@ class DefaultSelector(PointingSelector):
         return prior + density - (costs - arm_cost) / 2.0
 
 
+def _touching(objects: list[ObjectCandidate], xyz_m: np.ndarray, best: int, gap_m: float) -> np.ndarray:
+    """Return a bool per object: do its points come within ``gap_m`` (metres) of object ``best``'s?"""
+    tree = cKDTree(xyz_m[list(objects[best].members)])
+    out = np.zeros(len(objects), bool)
+    for k, obj in enumerate(objects):
+        pts = xyz_m[list(obj.members)]
+        pts = pts[np.all(np.isfinite(pts), axis=1)]
+        out[k] = k == best or (len(pts) > 0 and float(tree.query(pts, k=1)[0].min()) <= gap_m)
+    return out
+
+
 def arm_model_from_params(params: Mapping) -> ArmModel:
     """Return the default selector's arm priors from ``selection.*`` parameters."""
     return ArmModel(params["selection.keypoint_sigma_px"], params["selection.pointing_sigma_rad"],
@@ -471,7 +488,7 @@ def open_set_from_params(params: Mapping) -> OpenSet:
     """Return the default selector's "nothing detected" hypothesis from ``selection.*`` parameters."""
     return OpenSet(params["selection.none_prior"], params["selection.none_solid_angle_sr"],
                    params["selection.gate_sigmas"], params["selection.gate_min_rad"],
-                   params["selection.none_min_probability"])
+                   params["selection.none_min_probability"], params["selection.same_target_gap_m"])
 
 
 def make_selector(params: Mapping) -> PointingSelector:

@@ -208,3 +208,17 @@ def test_paper_selector_has_no_open_set():
     perception = Perception(RIG, load_params("paper"), None, detector=object())
     sel = perception.selector.select(arm, perception.triangulate_arm(arm), cands, xyz, RIG)
     assert sel.index is not None and sel.none_probability == 0.0 and sel.confidence == 1.0
+
+
+def test_fragments_of_one_placard_count_as_one_target():
+    """A placard split into two touching fragments: the confidence is their summed probability, not half."""
+    arm, u = _arm_right()
+    shoulder = np.array([-0.4, 0.0, 2.5])
+    centre = shoulder + 2.0 * u
+    top = centre + np.c_[np.linspace(-0.12, 0.12, 16), np.full(16, -0.06), np.zeros(16)]
+    bottom = centre + np.c_[np.linspace(-0.12, 0.12, 16), np.full(16, 0.02), np.zeros(16)]
+    sel, _, _ = _select(arm, np.vstack([top, bottom]), **{"selection.group_radius_px": 10.0,
+                                                          "selection.object_radius_m": 0.05})
+    assert len(sel.objects) == 2
+    assert sel.confidence == pytest.approx(float(np.sum(sel.scores)))
+    assert sel.confidence > 0.8 and not sel.ambiguous
