@@ -20,7 +20,7 @@ degrees; the dataclasses hold metres and radians. File format (all sections but 
     track_line: under_placards | [[n,e,d], ...] | null
     diver: {positions: [{name, ned_m | range_m + bearing_deg + depth_m}], heading_deg: auto | deg,
             arm, target: random | id, target_choices, pointing_error_deg, start_s, hold_s, raise_s,
-            sway_amplitude_m, sway_period_s, suit_bgr, tank_bgr}
+            sway_amplitude_m, sway_period_s, suit_bgr, tank_bgr, stop_gesture_at_s}
     pose_source: {noise_px, dropout}
 
 ``range_m`` / ``bearing_deg`` are measured from the left camera at the vehicle's start pose
@@ -193,6 +193,13 @@ class Diver:
     sway_period_s: float = 7.0
     suit_bgr: tuple[float, float, float] = (40.0, 35.0, 30.0)
     tank_bgr: tuple[float, float, float] = (30.0, 200.0, 230.0)
+    stop_gesture_at_s: float | None = None
+
+    def stop_fraction(self, t_s: float) -> float:
+        """Return how far both arms are raised above the head for the stop gesture (0-1, ramp raise_s)."""
+        if self.stop_gesture_at_s is None:
+            return 0.0
+        return float(np.clip((t_s - self.stop_gesture_at_s) / max(self.raise_s, 1e-6), 0.0, 1.0))
 
     def pointing_at(self, t_s: float) -> bool:
         """Return True while the arm is fully raised and held on the target."""
@@ -257,6 +264,14 @@ class Diver:
         j["hand"] = j["wrist"] + 0.09 * arm_dir
         j["o_elbow"] = j["o_shoulder"] + UPPER_ARM_M * unit(down - 0.18 * side)
         j["o_wrist"] = j["o_elbow"] + FOREARM_M * unit(down + 0.35 * fwd - 0.1 * side)
+        g = 0.0 if exact else self.stop_fraction(t_s)
+        if g > 0:  # the stop gesture: both arms straight up, wrists above the head
+            for pre, sgn in (("", 1.0), ("o_", -1.0)):
+                now = unit(j[f"{pre}wrist"] - j[f"{pre}shoulder"])
+                up = unit((1 - g) * now + g * unit(-down + 0.25 * sgn * side))
+                j[f"{pre}elbow"] = j[f"{pre}shoulder"] + UPPER_ARM_M * up
+                j[f"{pre}wrist"] = j[f"{pre}elbow"] + FOREARM_M * up
+            j["hand"] = j["wrist"] + 0.09 * unit(j["wrist"] - j["shoulder"])
         return j
 
 
@@ -664,7 +679,8 @@ def _diver(n: _Node, ctx: _Context, placards: list[Placard], rng: np.random.Gene
                 sway_amplitude_m=n.num("sway_amplitude_m", 0.03, 0, 1),
                 sway_period_s=n.num("sway_period_s", 7.0, 0.1, 1000),
                 suit_bgr=n.vec("suit_bgr", 3, Diver.suit_bgr, 0, 255),
-                tank_bgr=n.vec("tank_bgr", 3, Diver.tank_bgr, 0, 255))
+                tank_bgr=n.vec("tank_bgr", 3, Diver.tank_bgr, 0, 255),
+                stop_gesture_at_s=n.num("stop_gesture_at_s", None, 0))
     n.done()
     return out
 
