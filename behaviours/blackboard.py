@@ -19,6 +19,7 @@ from dip3d_vehicle.servo.ibvs import PointServo, ServoErrors
 
 from .evidence import Vote
 from .fusion import FusedDecision, PointFusion
+from .second_look import LookStep
 from .tracker import TargetTracker, TrackedTarget
 
 __all__ = ["BehaviourConfig", "TrackFrame", "Observation", "StatusText", "SetServo", "Blackboard"]
@@ -80,6 +81,12 @@ class BehaviourConfig:
     fusion_min_posterior: float = 0.9
     fusion_no_objects_none_p: float = 0.8
     fusion_max_effective_frames: float = 4.0
+    second_look_max_tries: int = 1
+    second_look_step_m: float = 0.4
+    second_look_speed_m_s: float = 0.15
+    second_look_settle_s: float = 1.0
+    second_look_min_p: float = 0.15
+    second_look_margin_px: float = 80.0
     shake_yaw_rate_rad_s: float = 0.35
     shake_swing_s: float = 0.4
     stop_gesture: bool = True
@@ -152,7 +159,8 @@ class Blackboard:
     ``perception_fresh``.
     Outputs (written by the states): ``command`` (None = no motion), ``outbox``, ``chosen``,
     ``target``, ``errors``, ``arrived``; ``fusion`` (the current point's fused evidence) and
-    ``decision`` (its latest fused decision).
+    ``decision`` (its latest fused decision); ``look_step`` / ``second_looks`` (the planned second
+    look and how many this point has had).
     """
 
     config: BehaviourConfig
@@ -170,6 +178,8 @@ class Blackboard:
     chosen: Vote | None = None
     fusion: PointFusion | None = None
     decision: FusedDecision | None = None
+    look_step: LookStep | None = None
+    second_looks: int = 0
     target: TrackedTarget | None = None
     errors: ServoErrors | None = None
     arrived: bool = False

@@ -13,14 +13,17 @@ from collections import deque
 
 import numpy as np
 
+from dip3d_vehicle.servo.command import VelocityCommand
+
 from .acknowledge import Acknowledgement
 from .blackboard import Blackboard
 from .evidence import VoteBox, angular_spread_rad, arm_direction, image_direction, is_raised
-from .fusion import FrameEvidence, FusedDecision, PointFusion
+from .fusion import NONE, FrameEvidence, FusedDecision, PointFusion
+from .second_look import LookStep, plan_second_look
 from .tracker import TrackedTarget
 
 __all__ = ["MissionState", "Idle", "WaitForDiver", "ConfirmPoint", "SelectTarget", "Acknowledge",
-           "Servo", "LostTarget", "Arrive", "Done", "Abort", "Suspended", "NothingThere", "Stopped",
+           "Servo", "LostTarget", "Arrive", "Done", "Abort", "Suspended", "NothingThere", "Stopped", "SecondLook",
            "STATE_CLASSES"]
 
 
@@ -127,6 +130,7 @@ class WaitForDiver(MissionState):
         super().enter(bb)
         bb.set_command(None)
         bb.fusion = None  # a new point starts its evidence afresh
+        bb.second_looks = 0
         self.history: deque[bool] = deque(maxlen=bb.config.arm_seen_m)
 
     def tick(self, bb: Blackboard) -> str | None:
@@ -198,11 +202,12 @@ class SelectTarget(_ArmWatch):
     The evidence gathered since the point began (confirm_point's frames too) is kept across an
     ``ambiguous`` round trip through confirm_point while the diver keeps pointing the same way.
     A winning object -> ``winner``; "nothing detected" winning -> ``nothing_there``; no clear
-    winner within ``behaviour.select_timeout_s`` -> ``ambiguous``.
+    winner within ``behaviour.select_timeout_s``: two objects close -> ``second_look`` (while tries
+    are left and a step separates them), else ``ambiguous``.
     """
 
     name = "select_target"
-    triggers = ("winner", "nothing_there", "ambiguous", "arm_lost")
+    triggers = ("winner", "nothing_there", "second_look", "ambiguous", "arm_lost")
 
     def enter(self, bb: Blackboard) -> None:
         super().enter(bb)
@@ -210,6 +215,7 @@ class SelectTarget(_ArmWatch):
         self.box = VoteBox(bb.config.vote_radius_m)
         self.misses = 0
         self.added = 0
+        self.last_arm3d = None
 
     def tick(self, bb: Blackboard) -> str | None:
         c = bb.config
@@ -223,6 +229,7 @@ class SelectTarget(_ArmWatch):
         if self.misses:
             return None
         self.box.add(result, bb.observation.stamp_s)
+        self.last_arm3d = result.arm3d if result.arm3d is not None else self.last_arm3d
         self.added += _fuse(bb, result, image_direction(result)) is not None
         if self.added == 0 or len(bb.fusion.frames) < c.vote_frames:
             return None
@@ -250,9 +257,31 @@ class SelectTarget(_ArmWatch):
             bb.say(f"no decision in {c.select_timeout_s:g} s: no usable frame", "notice", pilot=True)
             return "ambiguous"
         decision = fusion.decide(c.fusion_min_posterior, c.min_votes)
-        bb.say(f"ambiguous: {decision.reason}", "notice", pilot=True)
         _tell_decision(bb, decision)
+        step = self.look_step(bb, decision)
+        if step is not None:
+            bb.look_step = step
+            return "second_look"
+        bb.say(f"ambiguous: {decision.reason}", "notice", pilot=True)
         return "ambiguous"
+
+    def look_step(self, bb: Blackboard, decision: FusedDecision) -> LookStep | None:
+        """Return the second look's step when two objects are close and a step separates them, else None."""
+        c, post = bb.config, decision.posterior
+        if bb.second_looks >= c.second_look_max_tries or decision.second is None or NONE in (decision.best,
+                                                                                              decision.second):
+            return None
+        if min(post[decision.best], post[decision.second]) < c.second_look_min_p:
+            return None
+        arm3d = self.last_arm3d
+        if arm3d is None:
+            return None
+        a, b = bb.fusion.hypothesis(decision.best), bb.fusion.hypothesis(decision.second)
+        step = plan_second_look(a.xyz_m, b.xyz_m, arm3d.xyz_m[[0, 2]], c.second_look_step_m, bb.servo.focal_px,
+                                bb.servo.principal_point_px, c.second_look_margin_px)
+        if step is None:
+            bb.say(f"{decision.best} and {decision.second} close, but no step keeps all in view and separates them")
+        return step
 
 
 class Acknowledge(MissionState):
@@ -520,6 +549,49 @@ class NothingThere(MissionState):
         bb.set_command(None)
 
 
+class SecondLook(_ArmWatch):
+    """Two objects stay close: step sideways / vertically (``bb.look_step``) to see them apart, settle,
+    then decide again from there (the fused evidence restarts: a new viewpoint). The diver gone from the
+    view (``arm_lost_frames`` frames without the raised arm) -> stop, back to waiting (holding)."""
+
+    name = "second_look"
+    triggers = ("looked", "arm_lost")
+
+    def enter(self, bb: Blackboard) -> None:
+        super().enter(bb)
+        c, step = bb.config, bb.look_step
+        bb.second_looks += 1
+        self.misses = 0
+        if step is None:  # nothing planned: no motion, decide again at once
+            self.move_s, self.command = 0.0, None
+            return
+        self.move_s = c.second_look_step_m / c.second_look_speed_m_s
+        v = c.second_look_speed_m_s
+        dx, dy, _ = step.offset_m
+        n = max(abs(dx), abs(dy), 1e-9)
+        self.command = VelocityCommand(sway_m_s=v * dx / n, heave_m_s=v * dy / n)
+        bb.say(f"second look {bb.second_looks}: {c.second_look_step_m:.2f} m {step.direction}", "notice", pilot=True)
+        bb.say(f"second look: separation {step.before_rad:.3f} -> {step.after_rad:.3f} rad")
+
+    def tick(self, bb: Blackboard) -> str | None:
+        c = bb.config
+        moving = self.elapsed(bb) < self.move_s
+        bb.set_command(self.command if moving else None)
+        result = _new_result(bb)
+        if result is not None and self.arm_gone(bb, _raised(bb, result), "diver left the view during the second look"):
+            bb.stop()
+            return "arm_lost"
+        if self.elapsed(bb) >= self.move_s + c.second_look_settle_s:
+            if bb.fusion is not None:
+                bb.fusion.reset()
+            bb.say("second look done: deciding again from here")
+            return "looked"
+        return None
+
+    def exit(self, bb: Blackboard) -> None:
+        bb.stop()
+
+
 class Stopped(MissionState):
     """The diver's stop gesture: hold (neutral, the link stays engaged and the enable kept), mission over.
 
@@ -542,5 +614,5 @@ class Stopped(MissionState):
 
 STATE_CLASSES: tuple[type[MissionState], ...] = (Idle, WaitForDiver, ConfirmPoint, SelectTarget, Acknowledge,
                                                  Servo, LostTarget, Arrive, Done, Abort, Suspended, NothingThere,
-                                                 Stopped)
+                                                 Stopped, SecondLook)
 """Every state's behaviour class, by ``name``."""

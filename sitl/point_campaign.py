@@ -90,6 +90,7 @@ def stop_trial(args: tuple) -> dict:
     at_s = float(np.random.default_rng([trial, 12]).uniform(2.0, 16.0))
     sim = _simulation(scenario, trial, dict({"sitl.max_sim_time_s": at_s + 4.0}, **overrides), stop_at_s=at_s)
     seen: list[tuple[float, bool]] = []
+    in_view: list[bool] = []
     before, rig = sim.processor.before, sim.rig
 
     def record(frame):
@@ -98,6 +99,7 @@ def stop_trial(args: tuple) -> dict:
         if truth is not None:
             arm = GivenKeypoints(sim.params["pose.arm"], truth).estimate(None, None, rig)
         seen.append((float(frame.stamp_s), StopGestureWatch().update(arm, 0.0)))
+        in_view.append(truth is not None)
         before(frame)
 
     sim.processor.before = record
@@ -114,7 +116,9 @@ def stop_trial(args: tuple) -> dict:
     out = {"trial": trial, "gesture_at_s": round(at_s, 2), "state_at_gesture": state_at,
            "visible_from_s": visible, "stopped_at_s": stopped}
     if visible is None:
-        out["note"] = "gesture never visible to the camera"
+        after = [v for (t, _), v in zip(seen, in_view) if t >= at_s]
+        out["note"] = (f"gesture never visible: the diver's arm in view in {sum(after)} of the {len(after)} frames "
+                       "after the gesture")
         return out
     due = visible + hold
     motion_after = [r.t_s for r in sim.received if r.t_s > due and r.motion]

@@ -170,7 +170,8 @@ def test_select_target_clear_winner_is_acknowledged_and_tracked(rig):
 
 def test_select_target_split_or_ambiguous_votes_go_back_to_confirm(rig):
     # the fused decision keeps gathering frames until behaviour.select_timeout_s, then goes back
-    m = _mission(rig, **{"behaviour.vote_frames": 4, "behaviour.min_votes": 3, "behaviour.select_timeout_s": 2.0})
+    m = _mission(rig, **{"behaviour.vote_frames": 4, "behaviour.min_votes": 3, "behaviour.select_timeout_s": 2.0,
+                         "behaviour.second_look_max_tries": 0})  # (the second look: test_point_decision.py)
     _to(m, "select_target")
     split = [_result(target_xyz=(0.5, 0, 2.0)), _result(target_xyz=(1.5, 0, 3.0))] * 5
     fired = _feed(m, split + [None])

@@ -50,8 +50,8 @@ def _arm(raised: bool = True, stop: bool = False) -> tuple[ArmKeypoints, Arm3D]:
 def _frame(probs: dict, none_p: float, raised: bool = True, stop: bool = False) -> PerceptionResult:
     """A perception result with objects at given x positions (metres) and their probabilities."""
     arm, arm3d = _arm(raised, stop)
-    objs = tuple(ObjectCandidate(np.array([800 + 100 * x, 600.0]), np.array([x, 0.0, 3.0]), 0.02, (0, 1, 2))
-                 for x in probs)
+    where = [np.array(x if isinstance(x, tuple) else (x, 0.0, 3.0), float) for x in probs]  # x (m) or (x, y, z)
+    objs = tuple(ObjectCandidate(np.array([800 + 300 * p[0] / p[2], 600.0]), p, 0.02, (0, 1, 2)) for p in where)
     scores = np.array(list(probs.values()), float)
     cands = Candidates(np.zeros((3, 2)), np.zeros((3, 2)), np.random.default_rng(0).random((3, 128), np.float32),
                        np.zeros(3))
@@ -158,7 +158,8 @@ def test_select_target_goes_to_nothing_there_which_shakes_tells_and_waits(rig):
 
 
 def test_the_point_evidence_survives_an_ambiguous_round_trip_but_not_a_new_direction(rig):
-    m = _mission(rig, **{"behaviour.vote_frames": 4, "behaviour.select_timeout_s": 0.5})
+    m = _mission(rig, **{"behaviour.vote_frames": 4, "behaviour.select_timeout_s": 0.5,
+                         "behaviour.second_look_max_tries": 0})
     _to(m, "select_target")
     _feed(m, [_frame({1.0: 0.5, 2.0: 0.4}, 0.1)] * 2 + [None])
     assert m.state == "confirm_point" and len(m.bb.fusion.frames) == 2
@@ -215,3 +216,67 @@ def test_the_stop_gesture_is_ignored_when_switched_off_or_in_idle(rig):
     m = _mission(rig)
     m.bb.engaged = False
     assert "stop_gesture" not in _feed(m, [_frame({1.0: 0.9}, 0.05, stop=True)] * 10)
+
+
+# ----------------------------------------------------------------------------- second look
+def test_the_second_look_takes_the_step_that_separates_candidates_one_behind_the_other_most():
+    from behaviours.second_look import plan_second_look, separation_rad
+    a, b = np.array([0.3, 0.1, 2.0]), np.array([0.45, 0.1, 3.0])
+    diver = np.array([[-0.6, 0.0, 2.5], [-0.1, 0.0, 2.4]])
+    step = plan_second_look(a, b, diver, 0.4, 920.0, (800.0, 600.0), 80.0)
+    from behaviours.second_look import STEPS
+    best = max(STEPS, key=lambda n: separation_rad(a, b, 0.4 * np.asarray(STEPS[n])))
+    assert step.direction == best and step.after_rad > step.before_rad + 0.01
+    assert abs(np.linalg.norm(step.offset_m) - 0.4) < 1e-9
+    assert step.after_rad == pytest.approx(separation_rad(a, b, step.offset_m))
+    # a diver at the image's left edge rules out stepping right (the diver would leave the view)
+    edge = np.array([[-1.95, 0.0, 2.5], [-1.9, 0.0, 2.4]])
+    s2 = plan_second_look(a, b, edge, 0.4, 920.0, (800.0, 600.0), 80.0)
+    assert s2 is None or s2.direction != "right"
+    assert plan_second_look(a, b, diver, 0.4, 920.0, (800.0, 600.0), 80.0, min_gain_rad=1.0) is None
+
+
+def _close_pair():
+    return _frame({(0.3, 0.1, 2.0): 0.45, (0.45, 0.1, 3.0): 0.42}, 0.13)  # one behind the other
+
+
+def test_close_objects_at_the_timeout_take_a_bounded_second_look_then_decide_again(rig):
+    m = _mission(rig, **{"behaviour.select_timeout_s": 1.0, "behaviour.second_look_max_tries": 1,
+                         "behaviour.second_look_step_m": 0.3, "behaviour.second_look_speed_m_s": 0.15,
+                         "behaviour.second_look_settle_s": 0.6})
+    _to(m, "select_target")
+    fired = _feed(m, [_close_pair()] * 5 + [None])
+    assert fired[-1] == "second_look" and m.state == "second_look" and m.bb.second_looks == 1
+    assert any(isinstance(o, StatusText) and "second look" in o.text for o in m.bb.outbox)
+    cmds = []
+    t0 = m.bb.now_s
+    for k in range(1, 200):
+        m.bb.now_s = t0 + 0.02 * k
+        m.bb.observation = Observation(m.bb.now_s, k, result=_close_pair()) if k % 10 == 0 else None
+        trig = m.tick()
+        m.bb.observation = None
+        cmds.append(m.bb.command)
+        if trig:
+            break
+    assert trig == "looked" and m.state == "select_target" and m.bb.fusion.frames == []
+    moving = [c for c in cmds if c is not None]
+    travelled = sum(abs(c.sway_m_s) + abs(c.heave_m_s) for c in moving) * 0.02
+    assert moving and all(c.surge_m_s == 0 and c.yaw_rate_rad_s == 0 for c in moving)
+    assert travelled == pytest.approx(0.3, abs=0.03) and cmds[-1] is None
+    fired = _feed(m, [_close_pair()] * 5 + [None], t0=m.bb.now_s)  # tries used up: back to confirm_point
+    assert "ambiguous" in fired and "second_look" not in fired and m.state == "confirm_point"
+
+
+def test_the_second_look_stops_and_waits_when_the_diver_leaves_the_view(rig):
+    m = _mission(rig, **{"behaviour.select_timeout_s": 1.0, "behaviour.arm_lost_frames": 3})
+    _to(m, "select_target")
+    assert _feed(m, [_close_pair()] * 5 + [None])[-1] == "second_look"
+    fired = _feed(m, [_frame({0.3: 0.45}, 0.1, raised=False)] * 3, t0=m.bb.now_s)
+    assert fired[-1] == "arm_lost" and m.state == "wait_for_diver" and m.bb.command is None
+
+
+def test_no_second_look_when_nothing_detected_is_one_of_the_two(rig):
+    m = _mission(rig, **{"behaviour.select_timeout_s": 1.0})
+    _to(m, "select_target")
+    fired = _feed(m, [_frame({0.3: 0.45}, 0.55)] * 5 + [None])
+    assert "ambiguous" in fired and "second_look" not in fired and m.state == "confirm_point"
