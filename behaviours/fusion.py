@@ -161,17 +161,21 @@ class PointFusion:
     def _log(self, p: float) -> float:
         return math.log(max(float(p), self.floor_p))
 
-    def _match(self, xyz: np.ndarray, taken: set[str]) -> Hypothesis | None:
-        """Return the nearest hypothesis within ``radius_m`` not yet used in this frame, or None."""
+    def _match(self, xyz: np.ndarray) -> Hypothesis | None:
+        """Return the nearest hypothesis within ``radius_m``, or None."""
         best, best_d = None, self.radius_m
         for h in self.hypotheses:
             d = float(np.linalg.norm(h.xyz_m - xyz))
-            if h.key not in taken and d <= best_d:
+            if d <= best_d:
                 best, best_d = h, d
         return best
 
     def add(self, result: PerceptionResult, stamp_s: float) -> FrameEvidence | None:
-        """Fuse one frame (with a raised arm); return its part, or None when the frame says nothing."""
+        """Fuse one frame (with a raised arm); return its part, or None when the frame says nothing.
+
+        Objects of one frame that fall on the same hypothesis (a placard split into two clusters)
+        add their probabilities: the frame's part for that hypothesis is their sum.
+        """
         probs = frame_probabilities(result, self.no_objects_none_p)
         if probs is None:
             return None
@@ -182,20 +186,20 @@ class PointFusion:
             xyz = np.asarray(obj.xyz_m, dtype=float)
             if not np.all(np.isfinite(xyz)):
                 continue
-            h = self._match(xyz, set(seen))
+            h = self._match(xyz)
             if h is None:
-                n = len(self.frames)
-                h = Hypothesis(f"o{len(self.hypotheses) + 1}", xyz.copy(), 0.0, n * floor)
+                h = Hypothesis(f"o{len(self.hypotheses) + 1}", xyz.copy(), 0.0, len(self.frames) * floor)
                 self.hypotheses.append(h)
             w = max(p, 1e-6)
             h.xyz_m = (h.weight * h.xyz_m + w * xyz) / (h.weight + w)
             h.weight += w
-            h.log_sum += self._log(p)
-            h.obj, h.candidates, h.stamp_s, h.best_p = obj, result.candidates, stamp_s, max(h.best_p, p)
-            seen[h.key] = p
+            if h.key not in seen or p > 0.5 * seen[h.key]:  # the latest strong sighting, for the tracker
+                h.obj, h.candidates, h.stamp_s = obj, result.candidates, stamp_s
+            seen[h.key] = seen.get(h.key, 0.0) + p
         for h in self.hypotheses:
-            if h.key not in seen:
-                h.log_sum += floor
+            h.log_sum += self._log(seen[h.key]) if h.key in seen else floor
+            if h.key in seen:
+                h.best_p = max(h.best_p, seen[h.key])
         self.none_log_sum += self._log(p_none)
         part = dict(seen, **{NONE: p_none})
         leader = max(part, key=part.get)

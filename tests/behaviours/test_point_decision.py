@@ -280,3 +280,10 @@ def test_no_second_look_when_nothing_detected_is_one_of_the_two(rig):
     _to(m, "select_target")
     fired = _feed(m, [_frame({0.3: 0.45}, 0.55)] * 5 + [None])
     assert "ambiguous" in fired and "second_look" not in fired and m.state == "confirm_point"
+
+
+def test_a_placard_split_into_two_clusters_in_one_frame_is_one_hypothesis():
+    f = PointFusion(0.3)
+    part = f.add(_frame({(1.0, 0.0, 3.0): 0.4, (1.1, 0.05, 3.0): 0.3, (2.0, 0.0, 3.0): 0.2}, 0.1), 0.0)
+    assert [h.key for h in f.hypotheses] == ["o1", "o2"] and part.probabilities["o1"] == pytest.approx(0.7)
+    assert f.hypotheses[0].led == 1
