@@ -148,8 +148,28 @@ def mission_trial(args: tuple) -> dict:
     return {"seed": seed, "position": result.diver_position, "target_id": result.target_id,
             "chosen_id": result.chosen_id, "outcome": outcome, "arrived": result.arrived,
             "time_to_decision_s": None if decided is None else round(decided - raised, 2),
-            "ambiguous_round_trips": states.count("select_target") - 1, "nothing_there": "nothing_there" in states,
-            "time_to_arrive_s": result.time_to_arrive_s}
+            "ambiguous_round_trips": states.count("confirm_point") - 1, "nothing_there": "nothing_there" in states,
+            "second_looks": states.count("second_look"), "second_look_displacement_m": _look_displacement(sim),
+            "second_look_resolved": _resolved_after_look(states), "time_to_arrive_s": result.time_to_arrive_s,
+            "states": states}
+
+
+def _look_displacement(sim) -> float:
+    """Return the vehicle's largest true distance from where its first second look began (0 if none), metres."""
+    rows = [r for r in sim.trajectory if r[6] == "second_look"]
+    if not rows:
+        return 0.0
+    start = np.array(rows[0][1:4])
+    later = [r for r in sim.trajectory if r[0] >= rows[0][0] and r[6] in ("second_look", "select_target")]
+    return round(max(float(np.linalg.norm(np.array(r[1:4]) - start)) for r in later), 3)
+
+
+def _resolved_after_look(states: list[str]) -> bool | None:
+    """Return whether a decision (acknowledge / nothing_there) directly followed a second look (None: no look)."""
+    if "second_look" not in states:
+        return None
+    i = states.index("second_look")
+    return any(s in ("acknowledge", "nothing_there") for s in states[i:i + 3])
 
 
 def _seeds(text: str) -> list[int]:
@@ -216,7 +236,10 @@ def _summary(which: str, rows: list[dict]) -> dict:
             "nothing_there": sum(r["nothing_there"] for r in rows),
             "decision_median_s": statistics.median(times) if times else None,
             "decision_max_s": max(times) if times else None,
-            "ambiguous_round_trips": sum(max(0, r["ambiguous_round_trips"]) for r in rows)}
+            "ambiguous_round_trips": sum(max(0, r["ambiguous_round_trips"]) for r in rows),
+            "second_look_runs": sum(r.get("second_looks", 0) > 0 for r in rows),
+            "second_look_resolved": sum(bool(r.get("second_look_resolved")) for r in rows),
+            "second_look_max_displacement_m": max((r.get("second_look_displacement_m", 0.0) for r in rows), default=0.0)}
 
 
 if __name__ == "__main__":
