@@ -108,9 +108,7 @@ def stop_trial(args: tuple) -> dict:
     finally:
         sim.close()
     hold = float(sim.mission.bb.config.stop_gesture_hold_s)
-    visible = None
-    for t, ok in seen:
-        visible = (visible if visible is not None else t) if ok else None
+    visible = _first_hold(seen, hold)
     state_at = next((s for t, s in reversed(sim.mission.history) if t <= at_s), "idle")
     stopped = next((t for t, s in sim.mission.history if s == "stopped"), None)
     out = {"trial": trial, "gesture_at_s": round(at_s, 2), "state_at_gesture": state_at,
@@ -130,6 +128,21 @@ def stop_trial(args: tuple) -> dict:
     out["neutral_after_due"] = any(not r.motion for r in sim.received if r.t_s > due)
     out["states"] = [s["state"] for s in result.states]
     return out
+
+
+def _first_hold(seen: list[tuple[float, bool]], hold_s: float) -> float | None:
+    """Return the start of the first unbroken run of showing frames that lasts ``hold_s``, or None.
+
+    Examples:
+        >>> _first_hold([(0.0, True), (0.2, False), (0.4, True), (0.6, True), (1.4, True), (1.6, False)], 1.0)
+        0.4
+    """
+    start = None
+    for t, ok in seen:
+        start = (start if start is not None else t) if ok else None
+        if start is not None and t - start >= hold_s - 1e-9:
+            return start
+    return None
 
 
 def mission_trial(args: tuple) -> dict:
