@@ -6,6 +6,10 @@ normal velocity output while otherwise stationary; the net heading change is zer
 ``lights``: ``ack_flashes`` on/off cycles of MAV_CMD_DO_SET_SERVO on the lights' servo output
 (BlueROV2: SERVO9), the vehicle holding still. ``none``: nothing.
 Each ends with ``ack_settle_s`` of stillness so the tracker can re-lock before the servo starts.
+
+``shake`` ("nothing there"): yaw LEFT first, then right, left and right back to the start heading
+(swing, 2 x swing, 2 x swing, swing at ``shake_yaw_rate_rad_s``): two reversals more than the nod,
+which starts to the right; the net heading change is zero.
 """
 
 from __future__ import annotations
@@ -16,7 +20,7 @@ from dip3d_vehicle.servo.command import VelocityCommand
 
 from .blackboard import BehaviourConfig, SetServo
 
-__all__ = ["AckStep", "ack_schedule", "Acknowledgement"]
+__all__ = ["AckStep", "ack_schedule", "shake_schedule", "Acknowledgement"]
 
 
 @dataclass(frozen=True)
@@ -55,11 +59,33 @@ def ack_schedule(config: BehaviourConfig) -> tuple[list[AckStep], float]:
     return steps, t + config.ack_settle_s
 
 
-class Acknowledgement:
-    """Plays the schedule against the clock: ``start(now)``, then ``tick(now)`` each loop tick."""
+def shake_schedule(config: BehaviourConfig) -> tuple[list[AckStep], float]:
+    """Return the "nothing there" shake's steps and its total duration, seconds.
 
-    def __init__(self, config: BehaviourConfig) -> None:
-        self.steps, self.duration_s = ack_schedule(config)
+    Examples:
+        >>> steps, total = shake_schedule(BehaviourConfig(shake_swing_s=0.5, shake_yaw_rate_rad_s=0.3, ack_settle_s=1.0))
+        >>> [(s.start_s, s.yaw_rate_rad_s) for s in steps], total
+        ([(0.0, -0.3), (0.5, 0.3), (1.5, -0.3), (2.5, 0.3), (3.0, 0.0)], 4.0)
+    """
+    r, s = config.shake_yaw_rate_rad_s, config.shake_swing_s
+    steps, t = [], 0.0
+    for rate, dur in ((-r, s), (r, 2 * s), (-r, 2 * s), (r, s)):
+        steps.append(AckStep(t, rate))
+        t += dur
+    steps.append(AckStep(t))
+    return steps, t + config.ack_settle_s
+
+
+class Acknowledgement:
+    """Plays the schedule against the clock: ``start(now)``, then ``tick(now)`` each loop tick.
+
+    Args:
+        config: the behaviour parameters.
+        shake: play the "nothing there" shake instead of the acknowledgement.
+    """
+
+    def __init__(self, config: BehaviourConfig, shake: bool = False) -> None:
+        self.steps, self.duration_s = shake_schedule(config) if shake else ack_schedule(config)
         self._t0 = 0.0
         self._next = 0
 

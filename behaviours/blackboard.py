@@ -13,11 +13,13 @@ from typing import Any, Mapping
 import numpy as np
 
 from dip3d_vehicle.perception.pipeline import PerceptionResult
-from dip3d_vehicle.perception.values import Candidates
+from dip3d_vehicle.perception.values import ArmKeypoints, Candidates
 from dip3d_vehicle.servo.command import VelocityCommand
 from dip3d_vehicle.servo.ibvs import PointServo, ServoErrors
 
 from .evidence import Vote
+from .fusion import FusedDecision, PointFusion
+from .second_look import LookStep
 from .tracker import TargetTracker, TrackedTarget
 
 __all__ = ["BehaviourConfig", "TrackFrame", "Observation", "StatusText", "SetServo", "Blackboard"]
@@ -74,6 +76,22 @@ class BehaviourConfig:
     release_frames: int = 3
     abort_hold_s: float = 3.0
     resume_within_s: float = 30.0
+    fusion_temper: float = 0.5
+    fusion_floor_p: float = 0.02
+    fusion_min_posterior: float = 0.9
+    fusion_no_objects_none_p: float = 0.8
+    fusion_max_effective_frames: float = 4.0
+    second_look_max_tries: int = 1
+    second_look_step_m: float = 0.4
+    second_look_speed_m_s: float = 0.15
+    second_look_settle_s: float = 1.0
+    second_look_min_p: float = 0.15
+    second_look_margin_px: float = 80.0
+    shake_yaw_rate_rad_s: float = 0.35
+    shake_swing_s: float = 0.4
+    stop_gesture: bool = True
+    stop_gesture_hold_s: float = 1.0
+    stop_gesture_margin_px: float = 5.0
     standoff_m: float = 1.0
     statustext: bool = True
 
@@ -106,12 +124,14 @@ class Observation:
         index: frame number.
         result: the full perception core's result (diver, pointing, selection), or None.
         track: full-frame features for the tracker, or None.
+        pose: the pose of a ``track`` frame (for the stop gesture), or None (full frames: ``result.arm``).
     """
 
     stamp_s: float
     index: int
     result: PerceptionResult | None = None
     track: TrackFrame | None = None
+    pose: ArmKeypoints | None = None
 
 
 @dataclass(frozen=True)
@@ -138,7 +158,9 @@ class Blackboard:
     ``operator_enabled`` (the link's enable latch), ``observation`` (a new one this tick, else None),
     ``perception_fresh``.
     Outputs (written by the states): ``command`` (None = no motion), ``outbox``, ``chosen``,
-    ``target``, ``errors``, ``arrived``.
+    ``target``, ``errors``, ``arrived``; ``fusion`` (the current point's fused evidence) and
+    ``decision`` (its latest fused decision); ``look_step`` / ``second_looks`` (the planned second
+    look and how many this point has had).
     """
 
     config: BehaviourConfig
@@ -154,6 +176,10 @@ class Blackboard:
     command: VelocityCommand | None = None
     command_since_s: float = 0.0
     chosen: Vote | None = None
+    fusion: PointFusion | None = None
+    decision: FusedDecision | None = None
+    look_step: LookStep | None = None
+    second_looks: int = 0
     target: TrackedTarget | None = None
     errors: ServoErrors | None = None
     arrived: bool = False

@@ -53,7 +53,8 @@ class FrameProcessor:
     """Turns a camera frame into an Observation, doing only what the current state needs.
 
     ``full``: the perception core (pose, masked candidates, selection). ``track``: rectify and the
-    full-frame matched features with their 3D points (no pose), for the tracker.
+    full-frame matched features with their 3D points, for the tracker, plus the pose alone when
+    ``behaviour.stop_gesture`` is on (the stop gesture is watched in every state).
 
     Args:
         perception: the perception core (its rig, detector and pose backend are used).
@@ -61,9 +62,12 @@ class FrameProcessor:
             its keypoints here), or None.
     """
 
-    def __init__(self, perception: Perception, before: Callable[[StereoFrame], None] | None = None) -> None:
+    def __init__(self, perception: Perception, before: Callable[[StereoFrame], None] | None = None,
+                 pose_in_track: bool | None = None) -> None:
         self.perception = perception
         self.before = before
+        self.pose_in_track = bool(perception.params.get("behaviour.stop_gesture", True)) \
+            if pose_in_track is None else pose_in_track
         self.processed = {"full": 0, "track": 0}
         self.busy_s = 0.0
 
@@ -85,7 +89,8 @@ class FrameProcessor:
             xyz = triangulate(p.Q, cands.left_px, cands.disparity_px) if len(cands) else np.zeros((0, 3))
             keep = np.all(np.isfinite(xyz), axis=1) & (xyz[:, 2] > max(p.params["filters.min_depth_m"], 0.0)) \
                 & (xyz[:, 2] <= p.params["filters.max_depth_m"])
-            obs = Observation(stamp, frame.index, track=TrackFrame(cands.subset(keep), xyz[keep]))
+            pose = p.pose.estimate(left, right, p.rig) if self.pose_in_track else None
+            obs = Observation(stamp, frame.index, track=TrackFrame(cands.subset(keep), xyz[keep]), pose=pose)
         else:
             obs = Observation(stamp, frame.index, result=p.process(frame.left, frame.right))
         self.processed[need] = self.processed.get(need, 0) + 1

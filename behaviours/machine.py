@@ -13,11 +13,15 @@ Read the whole mission here::
     suspended --resume--> servo      (re-engaged after the operator's re-enable, target still tracked and fresh)
     suspended --expired--> wait_for_diver      (re-engaged, but the target is lost or too much time passed)
     every state but idle --disengage--> idle    (the link stopped commanding: operator disable, other causes)
+    select_target --nothing_there--> nothing_there --released--> wait_for_diver   (shake, STATUSTEXT, no motion)
+    select_target --second_look--> second_look --looked--> select_target   (a bounded step; diver gone: arm_lost)
+    every state but idle/stopped --stop_gesture--> stopped   (both wrists above the head >= 1 s: neutral, enable kept)
 
 Stale perception only holds the current state. A disengage for one of ``SUSPEND_REASONS`` (each
 clears the operator's enable in ``dip3d_vehicle/link/engage.py``, so the link engages again only
 after a new enable) suspends a mission that has a target instead of ending it; any other disengage
-ends the mission (idle).
+ends the mission (idle). The stop gesture is watched before every state's tick (``gesture.py``), on
+every frame: full frames' arm and tracking frames' pose.
 
 The ``transitions`` library holds the table (``queued=True``, no auto transitions, no Timeout
 extension: every timeout is checked against the loop's clock in the state's own ``tick``). Each
@@ -31,12 +35,14 @@ from transitions import Machine
 from dip3d_vehicle.link.engage import LATCHING_REASONS
 
 from .blackboard import Blackboard
+from .gesture import StopGestureWatch
 from .states import STATE_CLASSES, MissionState
 
 __all__ = ["STATES", "TRANSITIONS", "Mission", "PERCEPTION_STALE", "SUSPEND_REASONS", "SUSPENDABLE"]
 
 STATES: list[str] = ["idle", "wait_for_diver", "confirm_point", "select_target", "acknowledge", "servo",
-                     "lost_target", "arrive", "done", "abort", "suspended"]
+                     "lost_target", "arrive", "done", "abort", "suspended", "nothing_there", "stopped",
+                     "second_look"]
 """Every mission state."""
 
 TRANSITIONS: list[dict] = [
@@ -44,9 +50,12 @@ TRANSITIONS: list[dict] = [
     {"trigger": "arm_seen", "source": "wait_for_diver", "dest": "confirm_point"},
     {"trigger": "steady", "source": "confirm_point", "dest": "select_target"},
     {"trigger": "timeout", "source": "confirm_point", "dest": "wait_for_diver"},
-    {"trigger": "arm_lost", "source": ["confirm_point", "select_target"], "dest": "wait_for_diver"},
+    {"trigger": "arm_lost", "source": ["confirm_point", "select_target", "second_look"], "dest": "wait_for_diver"},
     {"trigger": "ambiguous", "source": "select_target", "dest": "confirm_point"},
     {"trigger": "winner", "source": "select_target", "dest": "acknowledge"},
+    {"trigger": "nothing_there", "source": "select_target", "dest": "nothing_there"},
+    {"trigger": "second_look", "source": "select_target", "dest": "second_look"},
+    {"trigger": "looked", "source": "second_look", "dest": "select_target"},
     {"trigger": "acked", "source": "acknowledge", "dest": "servo"},
     {"trigger": "centred", "source": "servo", "dest": "arrive"},
     {"trigger": "drifted", "source": "arrive", "dest": "servo"},
@@ -54,12 +63,13 @@ TRANSITIONS: list[dict] = [
     {"trigger": "reacquired", "source": "lost_target", "dest": "servo"},
     {"trigger": "give_up", "source": ["servo", "arrive", "lost_target"], "dest": "abort"},
     {"trigger": "held", "source": "arrive", "dest": "done"},
-    {"trigger": "released", "source": "done", "dest": "wait_for_diver"},
+    {"trigger": "released", "source": ["done", "nothing_there"], "dest": "wait_for_diver"},
     {"trigger": "reset", "source": "abort", "dest": "wait_for_diver"},
     {"trigger": "suspend", "source": ["servo", "lost_target", "arrive"], "dest": "suspended"},
     {"trigger": "resume", "source": "suspended", "dest": "servo"},
     {"trigger": "expired", "source": "suspended", "dest": "wait_for_diver"},
     {"trigger": "disengage", "source": [s for s in STATES if s != "idle"], "dest": "idle"},
+    {"trigger": "stop_gesture", "source": [s for s in STATES if s not in ("idle", "stopped")], "dest": "stopped"},
 ]
 """The whole machine: trigger, source state(s), destination."""
 
@@ -98,6 +108,7 @@ class Mission:
                                queued=True, auto_transitions=False, send_event=True,
                                before_state_change="_leave", after_state_change="_arrive")
         self.behaviours["idle"].enter(bb)
+        self.stop_watch = StopGestureWatch(bb.config.stop_gesture_hold_s, bb.config.stop_gesture_margin_px)
 
     @property
     def needs(self) -> str:
@@ -146,10 +157,24 @@ class Mission:
             bb.say(f"disengaged ({bb.hold_reason or 'link'}): stopping the mission")
             self.trigger("disengage")
             return "disengage"
+        if self.stop_gesture_held():
+            self.trigger("stop_gesture")
+            return "stop_gesture"
         name = self.behaviours[self.state].tick(bb)
         if name:
             self.trigger(name)
         return name
+
+    def stop_gesture_held(self) -> bool:
+        """Feed this tick's new frame to the stop-gesture watch; True when it fires (not in idle / stopped)."""
+        bb, obs = self.bb, self.bb.observation
+        if obs is None or not bb.config.stop_gesture or self.state in ("idle", "stopped"):
+            return False
+        arm = obs.result.arm if obs.result is not None else obs.pose
+        if not self.stop_watch.update(arm, obs.stamp_s):
+            return False
+        bb.say(f"stop gesture held {obs.stamp_s - self.stop_watch.since_s:.1f} s (both wrists above the head)")
+        return True
 
     def _leave(self, event) -> None:
         """Exit the source state's behaviour."""

@@ -13,13 +13,18 @@ from collections import deque
 
 import numpy as np
 
+from dip3d_vehicle.servo.command import VelocityCommand
+
 from .acknowledge import Acknowledgement
 from .blackboard import Blackboard
 from .evidence import VoteBox, angular_spread_rad, arm_direction, image_direction, is_raised
+from .fusion import NONE, FrameEvidence, FusedDecision, PointFusion
+from .second_look import LookStep, plan_second_look
 from .tracker import TrackedTarget
 
 __all__ = ["MissionState", "Idle", "WaitForDiver", "ConfirmPoint", "SelectTarget", "Acknowledge",
-           "Servo", "LostTarget", "Arrive", "Done", "Abort", "Suspended", "STATE_CLASSES"]
+           "Servo", "LostTarget", "Arrive", "Done", "Abort", "Suspended", "NothingThere", "Stopped", "SecondLook",
+           "STATE_CLASSES"]
 
 
 class MissionState:
@@ -70,6 +75,37 @@ def _track(bb: Blackboard) -> tuple[bool, TrackedTarget | None]:
     return True, found
 
 
+def _fuse(bb: Blackboard, result, direction) -> FrameEvidence | None:
+    """Add a raised-arm frame to the point's fused evidence; restart it when the pointing moved.
+
+    The point's direction is the mean left-image arm direction of its fused frames; a frame more
+    than ``behaviour.steady_angle_rad`` away from it starts a new point.
+    """
+    c = bb.config
+    if bb.fusion is None:
+        bb.fusion = PointFusion(c.vote_radius_m, c.fusion_temper, c.fusion_floor_p, c.fusion_no_objects_none_p,
+                                c.fusion_max_effective_frames)
+    fusion = bb.fusion
+    if direction is not None and fusion.direction is not None:
+        mean = fusion.direction / max(float(np.linalg.norm(fusion.direction)), 1e-9)
+        if angular_spread_rad([mean, direction]) * 2 > c.steady_angle_rad and fusion.frames:
+            bb.say(f"pointing moved: fused evidence of {len(fusion.frames)} frames restarted")
+            fusion.reset()
+    part = fusion.add(result, bb.observation.stamp_s)
+    if part is not None and direction is not None:
+        fusion.direction = direction.copy() if fusion.direction is None else fusion.direction + direction
+    return part
+
+
+def _tell_decision(bb: Blackboard, decision: FusedDecision) -> None:
+    """Put the fused posterior, the hypotheses and each frame's part in the story (and the log)."""
+    fusion = bb.fusion
+    bb.decision = decision
+    bb.say(f"fused posterior over {decision.frames} frames (weight {fusion.weight:.2f}): {decision.summary()}")
+    bb.say(f"hypotheses: {fusion.describe()}")
+    bb.say("frames: " + "; ".join(f.summary() for f in fusion.frames))
+
+
 class Idle(MissionState):
     """Disengaged (pilot in control, or not yet enabled): no motion; wait for the link to engage."""
 
@@ -93,6 +129,8 @@ class WaitForDiver(MissionState):
     def enter(self, bb: Blackboard) -> None:
         super().enter(bb)
         bb.set_command(None)
+        bb.fusion = None  # a new point starts its evidence afresh
+        bb.second_looks = 0
         self.history: deque[bool] = deque(maxlen=bb.config.arm_seen_m)
 
     def tick(self, bb: Blackboard) -> str | None:
@@ -146,6 +184,7 @@ class ConfirmPoint(_ArmWatch):
             return None
         direction = image_direction(result)
         stamp = bb.observation.stamp_s
+        _fuse(bb, result, direction)
         self.window.append((stamp, direction))
         spread = angular_spread_rad([d for _, d in self.window])
         if spread > c.steady_angle_rad:
@@ -158,22 +197,30 @@ class ConfirmPoint(_ArmWatch):
 
 
 class SelectTarget(_ArmWatch):
-    """Aggregate the selections of several frames; only a clear winner proceeds."""
+    """Fuse the point's frames into one posterior (nothing detected included); decide when it is clear.
+
+    The evidence gathered since the point began (confirm_point's frames too) is kept across an
+    ``ambiguous`` round trip through confirm_point while the diver keeps pointing the same way.
+    A winning object -> ``winner``; "nothing detected" winning -> ``nothing_there``; no clear
+    winner within ``behaviour.select_timeout_s``: two objects close -> ``second_look`` (while tries
+    are left and a step separates them), else ``ambiguous``.
+    """
 
     name = "select_target"
-    triggers = ("winner", "ambiguous", "arm_lost")
+    triggers = ("winner", "nothing_there", "second_look", "ambiguous", "arm_lost")
 
     def enter(self, bb: Blackboard) -> None:
         super().enter(bb)
         bb.set_command(None)
         self.box = VoteBox(bb.config.vote_radius_m)
         self.misses = 0
+        self.added = 0
+        self.last_arm3d = None
 
     def tick(self, bb: Blackboard) -> str | None:
         c = bb.config
         if self.elapsed(bb) > c.select_timeout_s:
-            bb.say(f"no decision in {c.select_timeout_s:g} s: ambiguous", "notice", pilot=True)
-            return "ambiguous"
+            return self.undecided(bb)
         result = _new_result(bb)
         if result is None:
             return None
@@ -182,22 +229,59 @@ class SelectTarget(_ArmWatch):
         if self.misses:
             return None
         self.box.add(result, bb.observation.stamp_s)
-        if self.box.frames < c.vote_frames:
+        self.last_arm3d = result.arm3d if result.arm3d is not None else self.last_arm3d
+        self.added += _fuse(bb, result, image_direction(result)) is not None
+        if self.added == 0 or len(bb.fusion.frames) < c.vote_frames:
             return None
-        decision = self.box.decide(c.min_vote_share, c.min_votes)
-        if decision.winner is None:
-            bb.say(f"ambiguous: {decision.reason}", "notice", pilot=True)
-            bb.say(f"votes: {self.box.summary()}; {decision.ambiguous_frames} ambiguous, "
-                   f"{decision.empty_frames} empty of {decision.frames} frames")
-            return "ambiguous"
-        w = decision.winner
+        decision = bb.fusion.decide(c.fusion_min_posterior, c.min_votes)
+        bb.decision = decision
+        if decision.kind == "undecided":
+            return None
+        _tell_decision(bb, decision)
+        if decision.kind == "none":
+            return "nothing_there"
+        w = bb.fusion.as_vote(decision.winner)
         bb.chosen = w
         bb.tracker.start(w.obj, w.candidates, w.stamp_s)
         bb.target = bb.tracker.last
         xyz = ", ".join(f"{v:.2f}" for v in w.xyz_m)
-        bb.say(f"target chosen at ({xyz}) m, share {decision.share:.2f}", pilot=True)
+        bb.say(f"target chosen at ({xyz}) m, p {decision.posterior[decision.best]:.2f}", pilot=True)
         bb.say(f"votes: {self.box.summary()}")
         return "winner"
+
+    def undecided(self, bb: Blackboard) -> str:
+        """No clear winner in time: say why and what the evidence was."""
+        c = bb.config
+        fusion = bb.fusion
+        if fusion is None or not fusion.frames:
+            bb.say(f"no decision in {c.select_timeout_s:g} s: no usable frame", "notice", pilot=True)
+            return "ambiguous"
+        decision = fusion.decide(c.fusion_min_posterior, c.min_votes)
+        _tell_decision(bb, decision)
+        step = self.look_step(bb, decision)
+        if step is not None:
+            bb.look_step = step
+            return "second_look"
+        bb.say(f"ambiguous: {decision.reason}", "notice", pilot=True)
+        return "ambiguous"
+
+    def look_step(self, bb: Blackboard, decision: FusedDecision) -> LookStep | None:
+        """Return the second look's step when two objects are close and a step separates them, else None."""
+        c, post = bb.config, decision.posterior
+        if bb.second_looks >= c.second_look_max_tries or decision.second is None or NONE in (decision.best,
+                                                                                              decision.second):
+            return None
+        if min(post[decision.best], post[decision.second]) < c.second_look_min_p:
+            return None
+        arm3d = self.last_arm3d
+        if arm3d is None:
+            return None
+        a, b = bb.fusion.hypothesis(decision.best), bb.fusion.hypothesis(decision.second)
+        step = plan_second_look(a.xyz_m, b.xyz_m, arm3d.xyz_m[[0, 2]], c.second_look_step_m, bb.servo.focal_px,
+                                bb.servo.principal_point_px, c.second_look_margin_px)
+        if step is None:
+            bb.say(f"{decision.best} and {decision.second} close, but no step keeps all in view and separates them")
+        return step
 
 
 class Acknowledge(MissionState):
@@ -431,6 +515,104 @@ class Suspended(MissionState):
         return "resume"
 
 
+class NothingThere(MissionState):
+    """Nothing detected where the diver points: no motion toward anything; tell them with a shake and the
+    pilot with a STATUSTEXT, then wait for the arm to come down (a new point)."""
+
+    name = "nothing_there"
+    triggers = ("released",)
+
+    def enter(self, bb: Blackboard) -> None:
+        super().enter(bb)
+        bb.stop()
+        bb.chosen = None
+        p = bb.decision.posterior.get("none", float("nan")) if bb.decision is not None else float("nan")
+        bb.say(f"nothing detected where pointed (p {p:.2f})", "notice", pilot=True)
+        bb.say("shaking: yaw left-right-left-right, then waiting for a new point")
+        self.shake = Acknowledgement(bb.config, shake=True)
+        self.shake.start(bb.now_s)
+        self.lowered = 0
+
+    def tick(self, bb: Blackboard) -> str | None:
+        command, _, finished = self.shake.tick(bb.now_s)
+        bb.set_command(None if finished else command)
+        result = _new_result(bb)
+        if not finished or result is None:
+            return None
+        self.lowered = 0 if _raised(bb, result) else self.lowered + 1
+        if self.lowered >= bb.config.release_frames:
+            bb.say("diver's arm down: ready for a new request")
+            return "released"
+        return None
+
+    def exit(self, bb: Blackboard) -> None:
+        bb.set_command(None)
+
+
+class SecondLook(_ArmWatch):
+    """Two objects stay close: step sideways / vertically (``bb.look_step``) to see them apart, settle,
+    then decide again from there (the fused evidence restarts: a new viewpoint). The diver gone from the
+    view (``arm_lost_frames`` frames without the raised arm) -> stop, back to waiting (holding)."""
+
+    name = "second_look"
+    triggers = ("looked", "arm_lost")
+
+    def enter(self, bb: Blackboard) -> None:
+        super().enter(bb)
+        c, step = bb.config, bb.look_step
+        bb.second_looks += 1
+        self.misses = 0
+        if step is None:  # nothing planned: no motion, decide again at once
+            self.move_s, self.command = 0.0, None
+            return
+        self.move_s = c.second_look_step_m / c.second_look_speed_m_s
+        v = c.second_look_speed_m_s
+        dx, dy, _ = step.offset_m
+        n = max(abs(dx), abs(dy), 1e-9)
+        self.command = VelocityCommand(sway_m_s=v * dx / n, heave_m_s=v * dy / n)
+        bb.say(f"second look {bb.second_looks}: {c.second_look_step_m:.2f} m {step.direction}", "notice", pilot=True)
+        bb.say(f"second look: separation {step.before_rad:.3f} -> {step.after_rad:.3f} rad")
+
+    def tick(self, bb: Blackboard) -> str | None:
+        c = bb.config
+        moving = self.elapsed(bb) < self.move_s
+        bb.set_command(self.command if moving else None)
+        result = _new_result(bb)
+        if result is not None and self.arm_gone(bb, _raised(bb, result), "diver left the view during the second look"):
+            bb.stop()
+            return "arm_lost"
+        if self.elapsed(bb) >= self.move_s + c.second_look_settle_s:
+            if bb.fusion is not None:
+                bb.fusion.reset()
+            bb.say("second look done: deciding again from here")
+            return "looked"
+        return None
+
+    def exit(self, bb: Blackboard) -> None:
+        bb.stop()
+
+
+class Stopped(MissionState):
+    """The diver's stop gesture: hold (neutral, the link stays engaged and the enable kept), mission over.
+
+    Left only when the link disengages (the operator's disable; a new enable starts a new mission).
+    """
+
+    name = "stopped"
+    needs = "track"
+
+    def enter(self, bb: Blackboard) -> None:
+        super().enter(bb)
+        bb.stop()
+        bb.chosen = None
+        bb.say("stop gesture: holding, mission ended", "warning", pilot=True)
+
+    def tick(self, bb: Blackboard) -> str | None:
+        bb.set_command(None)
+        return None
+
+
 STATE_CLASSES: tuple[type[MissionState], ...] = (Idle, WaitForDiver, ConfirmPoint, SelectTarget, Acknowledge,
-                                                 Servo, LostTarget, Arrive, Done, Abort, Suspended)
+                                                 Servo, LostTarget, Arrive, Done, Abort, Suspended, NothingThere,
+                                                 Stopped, SecondLook)
 """Every state's behaviour class, by ``name``."""

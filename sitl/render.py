@@ -373,6 +373,8 @@ class StereoRenderer:
             inside = (px[:, 0] >= 0) & (px[:, 0] <= w - 1) & (px[:, 1] >= 0) & (px[:, 1] <= h - 1)
             visible &= bool(np.all(inside))
             truth[side] = {j: [float(x), float(y)] for j, (x, y) in zip(_ARM_JOINTS, px)}
+            if side == "left":
+                truth[side].update(_extra_truth(cpose, joints, self.K, D, (w, h)))
         keypoints = None
         if visible:
             rng = np.random.default_rng([sc.seed, ms, 1])
@@ -385,6 +387,7 @@ class StereoRenderer:
                     noise = rng.normal(0.0, sigma, size=(3, 2)) if sigma > 0 else np.zeros((3, 2))
                     keypoints[side] = {j: [truth[side][j][0] + float(n[0]), truth[side][j][1] + float(n[1])]
                                        for j, n in zip(_ARM_JOINTS, noise)}
+                _add_extra_joints(keypoints, truth, rng, sigma)
         placards = {}
         for p in sc.placards:
             c = poses[0].to_cam(p.centre_ned_m)[0]
@@ -410,6 +413,31 @@ class StereoRenderer:
             "scenario": sc.name,
             "seed": sc.seed,
         }
+
+
+_EXTRA_JOINTS = {"head": "head", "other_wrist": "o_wrist"}
+"""The pose source's optional extra joints (for the stop gesture): keypoint name -> body joint."""
+
+
+def _extra_truth(cpose, joints: dict, K: np.ndarray, D: np.ndarray, size: tuple[int, int]) -> dict:
+    """Return the extra joints inside the left image, original pixels, by keypoint name."""
+    out = {}
+    for name, joint in _EXTRA_JOINTS.items():
+        pc = cpose.to_cam(np.asarray([joints[joint]]))
+        if pc[0, 2] < 0.1:
+            continue
+        x, y = project_distorted(pc, K, D)[0]
+        if 0 <= x <= size[0] - 1 and 0 <= y <= size[1] - 1:
+            out[name] = [float(x), float(y)]
+    return out
+
+
+def _add_extra_joints(keypoints: dict, truth: dict, rng: np.random.Generator, sigma: float) -> None:
+    """Copy the left image's extra joints into the noisy keypoints (after the arm's draws: same arm noise)."""
+    for name in _EXTRA_JOINTS:
+        if name in truth["left"]:
+            n = rng.normal(0.0, sigma, size=2) if sigma > 0 else np.zeros(2)
+            keypoints["left"][name] = [truth["left"][name][0] + float(n[0]), truth["left"][name][1] + float(n[1])]
 
 
 def _noise_tiles(sigma: float, size: tuple[int, int], seed: int):

@@ -372,7 +372,7 @@ class BlazePoseEstimator(PoseEstimator):
         (lxy, lconf), (rxy, rconf) = left.arm(self.arm), right.arm(self.arm)
         if self.joint_disparity == "match":
             rxy = match_joint_disparity(left_rect, right_rect, lxy, rxy, rig.disparity_sign)
-        return ArmKeypoints(self.arm, lxy, rxy, lconf, rconf, source="blazepose")
+        return ArmKeypoints(self.arm, lxy, rxy, lconf, rconf, source="blazepose", extra_left_px=_extra(left, self.arm))
 
     def _follow(self, image: np.ndarray, track: _Track) -> PoseLandmarks | None:
         """Return the pose in the tracked ROI, or from a fresh detection when there is none.
@@ -425,6 +425,20 @@ class BlazePoseEstimator(PoseEstimator):
         xy, conf = left.arm(self.arm)
         right_xy = xy - np.array([sign * disparity_px, 0.0])
         self._early_listener(ArmKeypoints(self.arm, xy, right_xy, conf, conf, source="blazepose (right predicted)"))
+
+
+_NOSE = 0
+"""BlazePose's nose landmark (the head of the stop gesture)."""
+
+
+def _extra(pose: PoseLandmarks, arm: str, min_visibility: float = 0.5) -> dict:
+    """Return the head (nose) and the other arm's wrist, pixels, where BlazePose deems them visible."""
+    other = ARM_INDICES["left" if arm == "right" else "right"][2]
+    out = {}
+    for name, i in (("head", _NOSE), ("other_wrist", other)):
+        if pose.visibility[i] >= min_visibility:
+            out[name] = (float(pose.xy_px[i, 0]), float(pose.xy_px[i, 1]))
+    return out
 
 
 def _small_grey(patch: np.ndarray, scale: float) -> np.ndarray:

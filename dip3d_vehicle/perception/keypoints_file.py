@@ -2,7 +2,8 @@
 
 File format (DESIGN.md): ``{"left": {"shoulder": [x, y], "elbow": [x, y], "wrist": [x, y]},
 "right": {...}}`` in original (unrectified) pixels, optionally ``"rectified": true``; each point
-may carry a third value, its confidence in [0, 1] (default 1).
+may carry a third value, its confidence in [0, 1] (default 1). Optional, for the stop gesture:
+``"head"`` and ``"other_wrist"`` in ``"left"`` (same form); files without them stay valid.
 """
 
 from __future__ import annotations
@@ -17,9 +18,9 @@ import numpy as np
 from ..errors import KeypointsError
 from .calibration import StereoRig
 from .pose import PoseEstimator
-from .values import JOINTS, ArmKeypoints
+from .values import EXTRA_JOINTS, JOINTS, ArmKeypoints
 
-__all__ = ["GivenKeypoints", "load_keypoints_file", "parse_keypoints"]
+__all__ = ["GivenKeypoints", "load_keypoints_file", "parse_keypoints", "parse_extra_joints"]
 
 
 def load_keypoints_file(path: str | Path) -> dict:
@@ -34,6 +35,7 @@ def load_keypoints_file(path: str | Path) -> dict:
     except json.JSONDecodeError as exc:
         raise KeypointsError(f"{path}:{exc.lineno}: not valid JSON ({exc.msg})") from None
     parse_keypoints(data, str(path))
+    parse_extra_joints(data, str(path))
     return data
 
 
@@ -75,6 +77,19 @@ def parse_keypoints(data: Any, where: str) -> tuple[np.ndarray, np.ndarray, np.n
     return out[0], out[2], out[1], out[3], rectified
 
 
+def parse_extra_joints(data: dict, where: str) -> dict[str, tuple[float, float]]:
+    """Return the optional ``EXTRA_JOINTS`` of the left image as {name: (x, y)} (validated)."""
+    left = data.get("left") if isinstance(data, dict) else None
+    if not isinstance(left, dict):
+        return {}
+    out = {}
+    for name in EXTRA_JOINTS:
+        if name in left and left[name] is not None:
+            x, y, _ = _point(left[name], f"{where}: left.{name}")
+            out[name] = (x, y)
+    return out
+
+
 class GivenKeypoints(PoseEstimator):
     """A pose 'estimator' that returns keypoints provided before each frame (file or truth)."""
 
@@ -96,6 +111,7 @@ class GivenKeypoints(PoseEstimator):
         """Set the keypoints for the next frames (None = no person seen)."""
         if data is not None:
             parse_keypoints(data, where)
+            parse_extra_joints(data, where)
         self._data, self._where = data, where
 
     def estimate(self, left_rect: np.ndarray, right_rect: np.ndarray, rig: StereoRig) -> ArmKeypoints | None:
@@ -106,4 +122,9 @@ class GivenKeypoints(PoseEstimator):
         if not rectified:
             left, right = rig.to_rectified(left, "left"), rig.to_rectified(right, "right")
         source = str(self._data.get("source", "keypoints-file"))
-        return ArmKeypoints(self.arm, left, right, lconf, rconf, source)
+        extra = parse_extra_joints(self._data, self._where)
+        if extra and not rectified:
+            names = list(extra)
+            pts = rig.to_rectified(np.array([extra[n] for n in names], dtype=np.float64), "left")
+            extra = {n: (float(p[0]), float(p[1])) for n, p in zip(names, pts)}
+        return ArmKeypoints(self.arm, left, right, lconf, rconf, source, dict(extra))

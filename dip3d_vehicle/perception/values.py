@@ -12,10 +12,14 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-__all__ = ["JOINTS", "ArmKeypoints", "Candidates", "Arm3D", "ObjectCandidate", "Selection"]
+__all__ = ["JOINTS", "EXTRA_JOINTS", "ArmKeypoints", "Candidates", "Arm3D", "ObjectCandidate", "Selection"]
 
 JOINTS = ("shoulder", "elbow", "wrist")
 """Joint order used in every (3, ...) array."""
+
+EXTRA_JOINTS = ("head", "other_wrist")
+"""Optional joints beyond the pointing arm (for the stop gesture): the head (BlazePose: the nose) and
+the wrist of the other arm."""
 
 
 @dataclass(frozen=True)
@@ -29,6 +33,8 @@ class ArmKeypoints:
         left_conf: (3,) per-keypoint confidence in [0, 1] for the left image.
         right_conf: (3,) per-keypoint confidence in [0, 1] for the right image.
         source: which estimator produced them (e.g. "keypoints-file", "blazepose", "sim-truth").
+        extra_left_px: optional ``EXTRA_JOINTS`` seen in the rectified left image, by name (x, y);
+            absent names were not given or not seen.
     """
 
     arm: str
@@ -37,6 +43,7 @@ class ArmKeypoints:
     left_conf: np.ndarray
     right_conf: np.ndarray
     source: str = ""
+    extra_left_px: dict = field(default_factory=dict)
 
     def joint(self, name: str, side: str = "left") -> np.ndarray:
         """Return one joint's (x, y) in the rectified ``side`` image, pixels."""

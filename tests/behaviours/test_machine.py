@@ -161,19 +161,26 @@ def test_select_target_clear_winner_is_acknowledged_and_tracked(rig):
     _to(m, "select_target")
     fired = _feed(m, [_result(target_xyz=(0.5, 0.0, 2.0 + 0.01 * i)) for i in range(4)])
     assert fired[-1] == "winner" and m.state == "acknowledge"
-    assert m.bb.tracker.active and np.allclose(m.bb.chosen.xyz_m, [0.5, 0.0, 2.03])
+    # the chosen position is the frames' probability-weighted mean (the fused geometry); the tracker
+    # starts from the latest sighting
+    assert m.bb.tracker.active and np.allclose(m.bb.chosen.xyz_m, [0.5, 0.0, 2.015])
+    assert np.allclose(m.bb.chosen.obj.xyz_m, [0.5, 0.0, 2.03])
     assert any(isinstance(o, StatusText) and "target chosen" in o.text for o in m.bb.outbox)
 
 
 def test_select_target_split_or_ambiguous_votes_go_back_to_confirm(rig):
-    m = _mission(rig, **{"behaviour.vote_frames": 4, "behaviour.min_votes": 3})
+    # the fused decision keeps gathering frames until behaviour.select_timeout_s, then goes back
+    m = _mission(rig, **{"behaviour.vote_frames": 4, "behaviour.min_votes": 3, "behaviour.select_timeout_s": 2.0,
+                         "behaviour.second_look_max_tries": 0})  # (the second look: test_point_decision.py)
     _to(m, "select_target")
-    split = [_result(target_xyz=(0.5, 0, 2.0)), _result(target_xyz=(1.5, 0, 3.0)),
-             _result(target_xyz=(0.5, 0, 2.0)), _result(target_xyz=(1.5, 0, 3.0))]
-    assert _feed(m, split)[-1] == "ambiguous" and m.state == "confirm_point"
+    split = [_result(target_xyz=(0.5, 0, 2.0)), _result(target_xyz=(1.5, 0, 3.0))] * 5
+    fired = _feed(m, split + [None])
+    assert "winner" not in fired and fired[-1] == "ambiguous" and m.state == "confirm_point"
+    m = _mission(rig, **{"behaviour.vote_frames": 4, "behaviour.min_votes": 3, "behaviour.select_timeout_s": 0.9})
     _to(m, "select_target")
     unsure = [_result(), _result(ambiguous=True, confidence=0.4), _result(ambiguous=True, confidence=0.4), _result()]
-    assert _feed(m, unsure)[-1] == "ambiguous"
+    fired = _feed(m, unsure + [None])
+    assert "winner" not in fired and fired[-1] == "ambiguous"
 
 
 def test_disengage_goes_idle_or_suspends_with_a_target_but_stale_perception_only_holds(rig):

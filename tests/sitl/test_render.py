@@ -36,7 +36,9 @@ def test_frame_shape_and_meta(scene):
     m = frame.meta
     assert m["target_id"] == sc.target_id and m["pointing"] is True and m["diver_visible"]
     assert m["keypoints"]["source"] == KEYPOINT_SOURCE and m["keypoints"]["rectified"] is False
-    assert set(m["keypoints"]["left"]) == set(JOINTS) and set(m["keypoints"]["right"]) == set(JOINTS)
+    # the left image also carries the optional extra joints (issue 12's stop gesture): head, other_wrist
+    assert set(m["keypoints"]["left"]) == set(JOINTS) | {"head", "other_wrist"}
+    assert set(m["keypoints"]["right"]) == set(JOINTS)
     assert set(m["placards"]) == {1, 2, 3}
     assert all(p["visible"] for p in m["placards"].values())
     assert m["vehicle_pose"]["depth_m"] == sc.initial_vehicle_pose.depth_m

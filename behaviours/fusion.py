@@ -1,0 +1,259 @@
+"""One decision over the whole point: the frames' posteriors fused into one, "nothing detected" included.
+
+Each frame with a raised arm gives the open-set selector's absolute probabilities: one per object
+it scored (``Selection.scores``) and ``Selection.none_probability`` that the arm points at nothing
+detected. The hypotheses over the whole point are the objects (clustered by 3D position across
+frames: the vehicle holds still while it watches) and "none". Their fused log score is
+
+    L(h) = w * sum_frames log max(p_frame(h), floor_p),   w = min(temper, max_effective_frames / n)
+
+(an object a frame did not see gets ``floor_p``: that frame gave it no support), and the fused
+posterior is softmax(L). ``temper`` < 1 accounts for the frames not being independent (the same
+pointing error, the same scene): with ``temper`` = 0.5, six frames count as three independent ones;
+and however long the diver holds, the n frames never count as more than ``max_effective_frames``
+independent ones (a systematic lean of an ambiguous selector does not become certainty with time:
+past that, the fused score is the frames' mean log probability times ``max_effective_frames``).
+A frame whose arm was fine but that found no object at all counts as ``no_objects_none_p`` for
+"none". The geometry is averaged too: each object's position is the probability-weighted mean of
+its sightings. Every frame's part (its log probability per hypothesis) is kept for the story and
+the log.
+
+Pure data and arithmetic: no clock, no link.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from dip3d_vehicle.perception.pipeline import PerceptionResult
+from dip3d_vehicle.perception.values import Candidates, ObjectCandidate
+
+from .evidence import Vote
+
+__all__ = ["NONE", "Hypothesis", "FrameEvidence", "FusedDecision", "PointFusion", "frame_probabilities"]
+
+NONE = "none"
+"""The name of the "nothing detected along the arm" hypothesis."""
+
+
+@dataclass
+class Hypothesis:
+    """One object over the frames: averaged position, latest sighting, and how often it led a frame.
+
+    Attributes:
+        key: "o1", "o2", ... in order of first sighting.
+        xyz_m: probability-weighted mean 3D centre (camera frame, metres).
+        weight: summed per-frame probability (the mean's weight).
+        log_sum: summed log probability (floored) over the counted frames.
+        led: frames in which it had the highest probability of all hypotheses (none included).
+        obj, candidates, stamp_s: its latest sighting (for the tracker).
+        best_p: its highest single-frame probability.
+    """
+
+    key: str
+    xyz_m: np.ndarray
+    weight: float
+    log_sum: float
+    led: int = 0
+    obj: ObjectCandidate | None = None
+    candidates: Candidates | None = None
+    stamp_s: float = 0.0
+    best_p: float = 0.0
+
+
+@dataclass(frozen=True)
+class FrameEvidence:
+    """One frame's part in the fused decision: its probability per hypothesis key ("none" included)."""
+
+    stamp_s: float
+    status: str
+    probabilities: dict
+
+    def summary(self) -> str:
+        """Return e.g. ``t=3.20 ok o1 0.62 o2 0.30 none 0.08``."""
+        parts = " ".join(f"{k} {p:.2f}" for k, p in sorted(self.probabilities.items(), key=lambda kv: -kv[1]))
+        return f"t={self.stamp_s:.2f} {self.status} {parts}"
+
+
+@dataclass(frozen=True)
+class FusedDecision:
+    """The fused posterior and what it decides.
+
+    Attributes:
+        kind: "object" (a winner), "none" (nothing detected wins), or "undecided".
+        winner: the winning object's Hypothesis (kind "object"), else None.
+        posterior: fused probability per hypothesis key ("none" included), summing to 1.
+        best, second: the two most probable keys (second may be None).
+        frames: frames fused.
+        reason: one line.
+    """
+
+    kind: str
+    winner: Hypothesis | None
+    posterior: dict
+    best: str | None
+    second: str | None
+    frames: int
+    reason: str
+
+    def summary(self) -> str:
+        """Return the posterior as text, best first, e.g. ``o1 0.93, none 0.05, o2 0.02``."""
+        return ", ".join(f"{k} {p:.2f}" for k, p in sorted(self.posterior.items(), key=lambda kv: -kv[1]))
+
+
+def frame_probabilities(result: PerceptionResult, no_objects_none_p: float) -> tuple[list, float] | None:
+    """Return ([(object, probability), ...], none probability) of one frame, or None if it says nothing.
+
+    A frame says something when the arm passed the checks: statuses "ok" and "nothing_on_ray"
+    (the selector's absolute probabilities; mass they leave unassigned counts for "none"; the paper
+    selector's choice counts as certain) and
+    "no_candidates" (no object at all: "none" with ``no_objects_none_p``, the rest unassigned).
+    """
+    sel = result.selection
+    if result.status in ("ok", "nothing_on_ray") and sel is not None and len(sel.objects):
+        if sel.method != "default":
+            objs = [(o, 1.0 if i == sel.index else 0.0) for i, o in enumerate(sel.objects)]
+            return objs, 0.0 if sel.index is not None else 1.0
+        scores = np.clip(np.nan_to_num(np.asarray(sel.scores, dtype=float), nan=0.0), 0.0, 1.0)
+        rest = max(0.0, 1.0 - float(scores.sum()) - float(sel.none_probability))  # unnamed mass: not an object
+        return [(o, float(scores[i])) for i, o in enumerate(sel.objects)], float(sel.none_probability) + rest
+    if result.status == "no_candidates" and result.arm3d is not None:
+        return [], float(no_objects_none_p)
+    return None
+
+
+@dataclass
+class PointFusion:
+    """Accumulates the frames of one point into the fused posterior.
+
+    Args:
+        radius_m: an object within this distance of a hypothesis' mean position is that hypothesis.
+        temper: exponent on each frame's probabilities (frame correlation), in (0, 1].
+        floor_p: the smallest probability a frame gives any hypothesis (also for unseen objects).
+        no_objects_none_p: "none" probability of a frame that found no object at all.
+        max_effective_frames: the most independent frames the whole point may count as.
+    """
+
+    radius_m: float
+    temper: float = 0.5
+    floor_p: float = 0.02
+    no_objects_none_p: float = 0.8
+    max_effective_frames: float = 4.0
+    direction: np.ndarray | None = None
+    hypotheses: list[Hypothesis] = field(default_factory=list)
+    none_log_sum: float = 0.0
+    none_led: int = 0
+    frames: list[FrameEvidence] = field(default_factory=list)
+
+    def reset(self) -> None:
+        """Forget every frame (a new point, or a new viewpoint)."""
+        self.hypotheses, self.none_log_sum, self.none_led, self.frames = [], 0.0, 0, []
+        self.direction = None
+
+    @property
+    def weight(self) -> float:
+        """The exponent on every frame: ``min(temper, max_effective_frames / frames)``."""
+        return min(self.temper, self.max_effective_frames / max(len(self.frames), 1))
+
+    def _log(self, p: float) -> float:
+        return math.log(max(float(p), self.floor_p))
+
+    def _match(self, xyz: np.ndarray) -> Hypothesis | None:
+        """Return the nearest hypothesis within ``radius_m``, or None."""
+        best, best_d = None, self.radius_m
+        for h in self.hypotheses:
+            d = float(np.linalg.norm(h.xyz_m - xyz))
+            if d <= best_d:
+                best, best_d = h, d
+        return best
+
+    def add(self, result: PerceptionResult, stamp_s: float) -> FrameEvidence | None:
+        """Fuse one frame (with a raised arm); return its part, or None when the frame says nothing.
+
+        Objects of one frame that fall on the same hypothesis (a placard split into two clusters)
+        add their probabilities: the frame's part for that hypothesis is their sum.
+        """
+        probs = frame_probabilities(result, self.no_objects_none_p)
+        if probs is None:
+            return None
+        objects, p_none = probs
+        floor = self._log(0.0)
+        seen: dict[str, float] = {}
+        for obj, p in sorted(objects, key=lambda op: -op[1]):
+            xyz = np.asarray(obj.xyz_m, dtype=float)
+            if not np.all(np.isfinite(xyz)):
+                continue
+            h = self._match(xyz)
+            if h is None:
+                h = Hypothesis(f"o{len(self.hypotheses) + 1}", xyz.copy(), 0.0, len(self.frames) * floor)
+                self.hypotheses.append(h)
+            w = max(p, 1e-6)
+            h.xyz_m = (h.weight * h.xyz_m + w * xyz) / (h.weight + w)
+            h.weight += w
+            if h.key not in seen or p > 0.5 * seen[h.key]:  # the latest strong sighting, for the tracker
+                h.obj, h.candidates, h.stamp_s = obj, result.candidates, stamp_s
+            seen[h.key] = seen.get(h.key, 0.0) + p
+        for h in self.hypotheses:
+            h.log_sum += self._log(seen[h.key]) if h.key in seen else floor
+            if h.key in seen:
+                h.best_p = max(h.best_p, seen[h.key])
+        self.none_log_sum += self._log(p_none)
+        part = dict(seen, **{NONE: p_none})
+        leader = max(part, key=part.get)
+        if leader == NONE:
+            self.none_led += 1
+        else:
+            next(h for h in self.hypotheses if h.key == leader).led += 1
+        ev = FrameEvidence(stamp_s, result.status, part)
+        self.frames.append(ev)
+        return ev
+
+    def posterior(self) -> dict:
+        """Return the fused posterior per hypothesis key ("none" included), summing to 1."""
+        w = self.weight
+        logs = {h.key: w * h.log_sum for h in self.hypotheses}
+        logs[NONE] = w * self.none_log_sum
+        top = max(logs.values())
+        w = {k: math.exp(v - top) for k, v in logs.items()}
+        total = sum(w.values())
+        return {k: v / total for k, v in w.items()}
+
+    def decide(self, min_posterior: float, min_led: int) -> FusedDecision:
+        """Decide when the best hypothesis has ``min_posterior`` and led at least ``min_led`` frames.
+
+        The leading-frames count keeps the per-frame safety of the old vote: a hypothesis wins only
+        when single frames chose it too, not from the floors of its rivals alone.
+        """
+        n = len(self.frames)
+        if n == 0:
+            return FusedDecision("undecided", None, {}, None, None, 0, "no frame with evidence")
+        post = self.posterior()
+        ranked = sorted(post, key=post.get, reverse=True)
+        best, second = ranked[0], (ranked[1] if len(ranked) > 1 else None)
+        led = self.none_led if best == NONE else next(h.led for h in self.hypotheses if h.key == best)
+        if post[best] < min_posterior:
+            why = f"fused {best} {post[best]:.2f} < {min_posterior:g} over {n} frames"
+            return FusedDecision("undecided", None, post, best, second, n, why)
+        if led < min_led:
+            why = f"{best} led {led} of {n} frames (< {min_led})"
+            return FusedDecision("undecided", None, post, best, second, n, why)
+        if best == NONE:
+            return FusedDecision("none", None, post, best, second, n, f"nothing detected: fused {post[best]:.2f}")
+        h = next(h for h in self.hypotheses if h.key == best)
+        return FusedDecision("object", h, post, best, second, n, f"fused {post[best]:.2f} over {n} frames")
+
+    def hypothesis(self, key: str) -> Hypothesis | None:
+        """Return the object hypothesis with this key, or None."""
+        return next((h for h in self.hypotheses if h.key == key), None)
+
+    def as_vote(self, h: Hypothesis) -> Vote:
+        """Return a hypothesis as the mission's chosen-target record (``Blackboard.chosen``)."""
+        return Vote(h.xyz_m.copy(), h.weight, h.led, h.obj, h.candidates, h.stamp_s)
+
+    def describe(self) -> str:
+        """Return the hypotheses' averaged positions, e.g. ``o1 (0.46, -0.21, 2.96) led 5``."""
+        parts = [f"{h.key} ({', '.join(f'{c:.2f}' for c in h.xyz_m)}) led {h.led}" for h in self.hypotheses]
+        return "; ".join(parts + [f"none led {self.none_led}"])

@@ -1,0 +1,289 @@
+"""Issue 12: one fused decision over the point, "nothing there" (shake), and the stop gesture."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from behaviours.acknowledge import shake_schedule
+from behaviours.blackboard import Observation, StatusText, TrackFrame
+from behaviours.fusion import NONE, PointFusion
+from behaviours.gesture import StopGestureWatch, stop_gesture_seen
+from behaviours.loop import build_mission
+from behaviours.machine import STATES
+from dip3d_vehicle.config import load_params
+from dip3d_vehicle.perception.pipeline import PerceptionResult
+from dip3d_vehicle.perception.values import Arm3D, ArmKeypoints, Candidates, ObjectCandidate, Selection
+from sitl.scenario import load_scenario
+
+FRAME_S = 0.2
+
+
+@pytest.fixture(scope="module")
+def rig():
+    return load_scenario("paper_pool", 0).rig()
+
+
+def _mission(rig, **over):
+    params = load_params(overrides={k: str(v) for k, v in over.items()})
+    m = build_mission(params, rig, (1600, 1200))
+    m.bb.engaged = True
+    return m
+
+
+def _arm(raised: bool = True, stop: bool = False) -> tuple[ArmKeypoints, Arm3D]:
+    shoulder = np.array([-0.5, 0.0, 2.5])
+    direction = np.array([1.0, 0.0, 0.0]) if raised else np.array([0.1, 1.0, 0.0])
+    direction /= np.linalg.norm(direction)
+    xyz = np.array([shoulder, shoulder + 0.3 * direction, shoulder + 0.58 * direction])
+    left = np.array([[500.0, 600.0], [600.0, 600.0], [690.0, 600.0]])
+    extra = {"head": (480.0, 560.0), "other_wrist": (400.0, 700.0)}
+    if stop:
+        left = np.array([[500.0, 600.0], [510.0, 500.0], [520.0, 420.0]])
+        extra = {"head": (480.0, 560.0), "other_wrist": (420.0, 425.0)}
+    arm = ArmKeypoints("right", left, left - [30.0, 0.0], np.ones(3), np.ones(3), extra_left_px=extra)
+    return arm, Arm3D(xyz, np.full(3, 0.05))
+
+
+def _frame(probs: dict, none_p: float, raised: bool = True, stop: bool = False) -> PerceptionResult:
+    """A perception result with objects at given x positions (metres) and their probabilities."""
+    arm, arm3d = _arm(raised, stop)
+    where = [np.array(x if isinstance(x, tuple) else (x, 0.0, 3.0), float) for x in probs]  # x (m) or (x, y, z)
+    objs = tuple(ObjectCandidate(np.array([800 + 300 * p[0] / p[2], 600.0]), p, 0.02, (0, 1, 2)) for p in where)
+    scores = np.array(list(probs.values()), float)
+    cands = Candidates(np.zeros((3, 2)), np.zeros((3, 2)), np.random.default_rng(0).random((3, 128), np.float32),
+                       np.zeros(3))
+    xyz = np.array([[0.0, 0.0, 3.0]] * 3)
+    if not objs:
+        return PerceptionResult("no_candidates", "", arm, arm3d)
+    best = int(np.argmax(scores))
+    if none_p > scores[best]:
+        sel = Selection(None, objs, scores, none_p, math.inf, "default", False, none_p, "nothing on the ray")
+        return PerceptionResult("nothing_on_ray", sel.reason, arm, arm3d, cands, xyz, sel)
+    sel = Selection(best, objs, scores, float(scores[best]), math.inf, "default", scores[best] < 0.6, none_p)
+    return PerceptionResult("ok", "", arm, arm3d, cands, xyz, sel)
+
+
+def _feed(m, results, t0: float = 0.0, track: bool = False):
+    fired = []
+    for i, r in enumerate(results):
+        m.bb.now_s = t0 + (i + 1) * FRAME_S
+        if track:
+            m.bb.observation = Observation(m.bb.now_s, i, track=TrackFrame(Candidates.empty(), np.zeros((0, 3))),
+                                           pose=r.arm if r is not None else None)
+        else:
+            m.bb.observation = Observation(m.bb.now_s, i, result=r)
+        fired.append(m.tick())
+        m.bb.observation = None
+    return fired
+
+
+def _to(m, state: str):
+    m.machine.set_state(state)
+    m.behaviours[state].enter(m.bb)
+
+
+# ----------------------------------------------------------------------------- fusion
+def test_consistent_but_ambiguous_frames_fuse_into_one_decision():
+    f = PointFusion(0.3, temper=0.5, floor_p=0.02, max_effective_frames=4)
+    for _ in range(8):  # every frame ambiguous (0.55 < 0.6), every frame leaning the same way
+        f.add(_frame({1.0: 0.55, 2.0: 0.15}, 0.30), 0.0)
+    d = f.decide(0.9, 3)
+    assert d.kind == "object" and np.allclose(d.winner.xyz_m, [1.0, 0.0, 3.0]) and d.posterior[d.best] >= 0.9
+    assert abs(sum(d.posterior.values()) - 1.0) < 1e-9 and len(f.frames) == 8
+
+
+def test_a_slight_lean_never_becomes_certainty_however_long_the_point():
+    f = PointFusion(0.3, temper=0.5, floor_p=0.02, max_effective_frames=4)
+    for _ in range(200):
+        f.add(_frame({1.0: 0.45, 2.0: 0.40}, 0.15), 0.0)
+    d = f.decide(0.9, 3)
+    assert d.kind == "undecided" and d.posterior[d.best] < 0.7
+
+
+def test_nothing_detected_wins_and_an_object_needs_frames_that_chose_it():
+    f = PointFusion(0.3)
+    for _ in range(6):
+        f.add(_frame({1.0: 0.1, 2.0: 0.05}, 0.85), 0.0)
+    d = f.decide(0.9, 3)
+    assert d.kind == "none" and d.best == NONE and d.winner is None
+    f = PointFusion(0.3, floor_p=0.001)
+    f.add(_frame({1.0: 0.95}, 0.05), 0.0)  # one strong frame only: led 1 < 3
+    d = f.decide(0.5, 3)
+    assert d.kind == "undecided" and "led 1" in d.reason
+
+
+def test_frames_without_objects_count_for_nothing_and_unusable_frames_are_skipped():
+    f = PointFusion(0.3, no_objects_none_p=0.8)
+    part = f.add(_frame({}, 0.0), 0.0)
+    assert part is not None and part.probabilities == {NONE: 0.8}
+    assert f.add(PerceptionResult("no_pose", "no person"), 0.0) is None and len(f.frames) == 1
+
+
+def test_objects_are_matched_by_position_and_their_geometry_is_averaged():
+    f = PointFusion(0.3)
+    f.add(_frame({1.0: 0.8, 2.0: 0.1}, 0.1), 0.0)
+    f.add(_frame({1.1: 0.8, 2.05: 0.1}, 0.1), 0.2)
+    assert [h.key for h in f.hypotheses] == ["o1", "o2"]
+    assert np.allclose(f.hypotheses[0].xyz_m, [1.05, 0, 3.0]) and f.hypotheses[0].led == 2
+
+
+# ----------------------------------------------------------------------------- nothing there
+def test_select_target_goes_to_nothing_there_which_shakes_tells_and_waits(rig):
+    m = _mission(rig, **{"behaviour.vote_frames": 4, "behaviour.min_votes": 3, "behaviour.release_frames": 3})
+    _to(m, "select_target")
+    fired = _feed(m, [_frame({1.0: 0.05, 2.0: 0.03}, 0.92)] * 4)
+    assert fired[-1] == "nothing_there" and m.state == "nothing_there" and m.bb.chosen is None
+    assert not m.bb.tracker.active
+    assert any(isinstance(o, StatusText) and "nothing detected" in o.text for o in m.bb.outbox)
+    assert any("fused posterior" in line for line in m.bb.story) and any("frames: t=" in line for line in m.bb.story)
+    steps, total = shake_schedule(m.bb.config)
+    rates, t = [], m.bb.now_s
+    for k in range(int(total / 0.02) + 10):  # the shake: yaw only, left first, back to the start heading
+        m.bb.now_s = t + (k + 1) * 0.02
+        m.tick()
+        c = m.bb.command
+        assert c is None or (c.surge_m_s, c.sway_m_s, c.heave_m_s) == (0.0, 0.0, 0.0)
+        rates.append(c.yaw_rate_rad_s if c else 0.0)
+    nonzero = [r for r in rates if r]
+    assert nonzero[0] < 0 < max(nonzero) and abs(sum(rates) * 0.02) < 0.03 and m.bb.command is None
+    assert sum(1 for a, b in zip(nonzero, nonzero[1:]) if a * b < 0) == 3  # the nod reverses twice
+    assert m.state == "nothing_there"
+    _feed(m, [_frame({1.0: 0.05}, 0.9)] * 3, t0=m.bb.now_s)
+    assert m.state == "nothing_there"
+    _feed(m, [_frame({1.0: 0.05}, 0.9, raised=False)] * 3, t0=m.bb.now_s)
+    assert m.state == "wait_for_diver" and m.bb.fusion is None
+
+
+def test_the_point_evidence_survives_an_ambiguous_round_trip_but_not_a_new_direction(rig):
+    m = _mission(rig, **{"behaviour.vote_frames": 4, "behaviour.select_timeout_s": 0.5,
+                         "behaviour.second_look_max_tries": 0})
+    _to(m, "select_target")
+    _feed(m, [_frame({1.0: 0.5, 2.0: 0.4}, 0.1)] * 2 + [None])
+    assert m.state == "confirm_point" and len(m.bb.fusion.frames) == 2
+    _feed(m, [_frame({1.0: 0.5, 2.0: 0.4}, 0.1)], t0=m.bb.now_s)
+    assert len(m.bb.fusion.frames) == 3
+    moved = _frame({1.0: 0.5}, 0.1)
+    left = moved.arm.left_px.copy()
+    left[2] = [600.0, 750.0]  # the wrist now points well below the old direction
+    moved = PerceptionResult(moved.status, "", ArmKeypoints("right", left, left - [30, 0], np.ones(3), np.ones(3)),
+                             moved.arm3d, moved.candidates, moved.candidates_xyz_m, moved.selection)
+    _feed(m, [moved], t0=m.bb.now_s)
+    assert len(m.bb.fusion.frames) == 1 and any("pointing moved" in line for line in m.bb.story)
+
+
+# ----------------------------------------------------------------------------- stop gesture
+def test_stop_gesture_needs_both_wrists_above_the_head():
+    stop, _ = _arm(stop=True)
+    point, _ = _arm()
+    assert stop_gesture_seen(stop) and not stop_gesture_seen(point) and not stop_gesture_seen(None)
+    one = ArmKeypoints("right", stop.left_px, stop.right_px, stop.left_conf, stop.right_conf,
+                       extra_left_px={"head": (480.0, 560.0), "other_wrist": (420.0, 700.0)})
+    bare = ArmKeypoints("right", stop.left_px, stop.right_px, stop.left_conf, stop.right_conf)
+    assert not stop_gesture_seen(one) and not stop_gesture_seen(bare)
+    assert not stop_gesture_seen(stop, margin_px=200.0)
+
+
+def test_stop_gesture_watch_needs_an_unbroken_hold():
+    w, stop = StopGestureWatch(1.0), _arm(stop=True)[0]
+    assert not any(w.update(stop, 0.2 * k) for k in range(5))  # 0.0 .. 0.8 s
+    assert not w.update(None, 1.0)  # a frame without it restarts the hold
+    assert not any(w.update(stop, 1.2 + 0.2 * k) for k in range(5))
+    assert w.update(stop, 2.2)
+
+
+@pytest.mark.parametrize("state", [s for s in STATES if s not in ("idle", "stopped")])
+def test_the_stop_gesture_holds_the_vehicle_from_every_state(rig, state):
+    m = _mission(rig, **{"behaviour.stop_gesture_hold_s": 1.0})
+    _to(m, state)
+    track = m.needs == "track"
+    fired = _feed(m, [_frame({1.0: 0.9}, 0.05, stop=True)] * 6, track=track)  # 0.2 .. 1.2 s
+    assert fired[-1] == "stop_gesture" and "stop_gesture" not in fired[:-1]
+    assert m.state == "stopped" and m.bb.command is None
+    assert any(isinstance(o, StatusText) and "stop gesture" in o.text for o in m.bb.outbox)
+    _feed(m, [_frame({1.0: 0.9}, 0.05)] * 20, t0=m.bb.now_s)  # pointing again does not restart anything
+    assert m.state == "stopped" and m.bb.command is None
+    m.bb.engaged, m.bb.hold_reason = False, "not enabled by the operator"
+    assert m.tick() == "disengage" and m.state == "idle"
+
+
+def test_the_stop_gesture_is_ignored_when_switched_off_or_in_idle(rig):
+    m = _mission(rig, **{"behaviour.stop_gesture": "false"})
+    _to(m, "servo")
+    assert "stop_gesture" not in _feed(m, [_frame({1.0: 0.9}, 0.05, stop=True)] * 10, track=True)
+    m = _mission(rig)
+    m.bb.engaged = False
+    assert "stop_gesture" not in _feed(m, [_frame({1.0: 0.9}, 0.05, stop=True)] * 10)
+
+
+# ----------------------------------------------------------------------------- second look
+def test_the_second_look_takes_the_step_that_separates_candidates_one_behind_the_other_most():
+    from behaviours.second_look import plan_second_look, separation_rad
+    a, b = np.array([0.3, 0.1, 2.0]), np.array([0.45, 0.1, 3.0])
+    diver = np.array([[-0.6, 0.0, 2.5], [-0.1, 0.0, 2.4]])
+    step = plan_second_look(a, b, diver, 0.4, 920.0, (800.0, 600.0), 80.0)
+    from behaviours.second_look import STEPS
+    best = max(STEPS, key=lambda n: separation_rad(a, b, 0.4 * np.asarray(STEPS[n])))
+    assert step.direction == best and step.after_rad > step.before_rad + 0.01
+    assert abs(np.linalg.norm(step.offset_m) - 0.4) < 1e-9
+    assert step.after_rad == pytest.approx(separation_rad(a, b, step.offset_m))
+    # a diver at the image's left edge rules out stepping right (the diver would leave the view)
+    edge = np.array([[-1.95, 0.0, 2.5], [-1.9, 0.0, 2.4]])
+    s2 = plan_second_look(a, b, edge, 0.4, 920.0, (800.0, 600.0), 80.0)
+    assert s2 is None or s2.direction != "right"
+    assert plan_second_look(a, b, diver, 0.4, 920.0, (800.0, 600.0), 80.0, min_gain_rad=1.0) is None
+
+
+def _close_pair():
+    return _frame({(0.3, 0.1, 2.0): 0.45, (0.45, 0.1, 3.0): 0.42}, 0.13)  # one behind the other
+
+
+def test_close_objects_at_the_timeout_take_a_bounded_second_look_then_decide_again(rig):
+    m = _mission(rig, **{"behaviour.select_timeout_s": 1.0, "behaviour.second_look_max_tries": 1,
+                         "behaviour.second_look_step_m": 0.3, "behaviour.second_look_speed_m_s": 0.15,
+                         "behaviour.second_look_settle_s": 0.6})
+    _to(m, "select_target")
+    fired = _feed(m, [_close_pair()] * 5 + [None])
+    assert fired[-1] == "second_look" and m.state == "second_look" and m.bb.second_looks == 1
+    assert any(isinstance(o, StatusText) and "second look" in o.text for o in m.bb.outbox)
+    cmds = []
+    t0 = m.bb.now_s
+    for k in range(1, 200):
+        m.bb.now_s = t0 + 0.02 * k
+        m.bb.observation = Observation(m.bb.now_s, k, result=_close_pair()) if k % 10 == 0 else None
+        trig = m.tick()
+        m.bb.observation = None
+        cmds.append(m.bb.command)
+        if trig:
+            break
+    assert trig == "looked" and m.state == "select_target" and m.bb.fusion.frames == []
+    moving = [c for c in cmds if c is not None]
+    travelled = sum(abs(c.sway_m_s) + abs(c.heave_m_s) for c in moving) * 0.02
+    assert moving and all(c.surge_m_s == 0 and c.yaw_rate_rad_s == 0 for c in moving)
+    assert travelled == pytest.approx(0.3, abs=0.03) and cmds[-1] is None
+    fired = _feed(m, [_close_pair()] * 5 + [None], t0=m.bb.now_s)  # tries used up: back to confirm_point
+    assert "ambiguous" in fired and "second_look" not in fired and m.state == "confirm_point"
+
+
+def test_the_second_look_stops_and_waits_when_the_diver_leaves_the_view(rig):
+    m = _mission(rig, **{"behaviour.select_timeout_s": 1.0, "behaviour.arm_lost_frames": 3})
+    _to(m, "select_target")
+    assert _feed(m, [_close_pair()] * 5 + [None])[-1] == "second_look"
+    fired = _feed(m, [_frame({0.3: 0.45}, 0.1, raised=False)] * 3, t0=m.bb.now_s)
+    assert fired[-1] == "arm_lost" and m.state == "wait_for_diver" and m.bb.command is None
+
+
+def test_no_second_look_when_nothing_detected_is_one_of_the_two(rig):
+    m = _mission(rig, **{"behaviour.select_timeout_s": 1.0})
+    _to(m, "select_target")
+    fired = _feed(m, [_frame({0.3: 0.45}, 0.55)] * 5 + [None])
+    assert "ambiguous" in fired and "second_look" not in fired and m.state == "confirm_point"
+
+
+def test_a_placard_split_into_two_clusters_in_one_frame_is_one_hypothesis():
+    f = PointFusion(0.3)
+    part = f.add(_frame({(1.0, 0.0, 3.0): 0.4, (1.1, 0.05, 3.0): 0.3, (2.0, 0.0, 3.0): 0.2}, 0.1), 0.0)
+    assert [h.key for h in f.hypotheses] == ["o1", "o2"] and part.probabilities["o1"] == pytest.approx(0.7)
+    assert f.hypotheses[0].led == 1

@@ -1,0 +1,26 @@
+"""Issue 12 in the closed loop: "nothing there" answered with the shake; the stop gesture holds the vehicle.
+
+The campaigns (10 seeds, 20 stop trials) are ``python -m sitl.point_campaign``.
+"""
+
+from __future__ import annotations
+
+import pytest
+
+from sitl.point_campaign import nothing_trial, stop_trial
+
+
+@pytest.mark.slow
+def test_nothing_there_shakes_and_never_moves_toward_a_placard():
+    row = nothing_trial(("nothing_there", 0, {"sitl.max_sim_time_s": 11.0}))
+    assert row["nothing_there"] and row["shake"], row
+    assert row["translation_commands"] == 0 and row["max_displacement_m"] < 0.05 and row["chosen_id"] is None
+    assert not row["arrived"] and "acknowledge" not in row["states"]
+
+
+@pytest.mark.slow
+def test_the_stop_gesture_holds_the_vehicle_within_half_a_second():
+    row = stop_trial(("paper_pool", 4, {}))  # trial 4: the gesture at 3.84 s, during the acknowledgement
+    assert row["visible_from_s"] is not None and row["stopped_at_s"] is not None, row
+    assert row["last_motion_after_due_s"] <= 0.5 and row["motion_after_stopped"] == 0
+    assert row["neutral_after_due"] and row["states"][-1] == "stopped"
