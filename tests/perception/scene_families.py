@@ -91,25 +91,8 @@ def scene_spec(family: str, rng: np.random.Generator) -> dict:
 
 def _line_of_sight(rng: np.random.Generator) -> dict:
     """Return the earlier test's 1-3 m scene: two placards on one line of sight, two elsewhere."""
-    bearing = rng.uniform(8.0, 22.0)
-    r1 = rng.uniform(1.0, 2.0)
-    r2 = rng.uniform(r1 + 0.9, 3.0)
-    placards = [{"id": 1, "range_m": float(r1), "bearing_deg": float(bearing), "depth_m": 1.25, "size_m": 0.3},
-                {"id": 2, "range_m": float(r2), "bearing_deg": float(bearing + rng.uniform(-1.5, 1.5)),
-                 "depth_m": 0.8, "size_m": 0.3}]
-    for pid in (3, 4):
-        for _ in range(50):
-            cand = {"id": pid, "range_m": float(rng.uniform(1.0, 3.0)), "bearing_deg": float(rng.uniform(5.0, 35.0)),
-                    "depth_m": float(rng.uniform(0.7, 1.4)), "size_m": 0.3}
-            if all(abs(cand["bearing_deg"] - p["bearing_deg"]) > 7 or abs(cand["range_m"] - p["range_m"]) > 0.8
-                   for p in placards):
-                placards.append(cand)
-                break
-    return {"base": "paper_pool", "placards": placards, "track_line": None,
-            "diver": {"positions": [{"name": "g", "range_m": float(rng.uniform(1.5, 3.0)),
-                                     "bearing_deg": float(rng.uniform(-26.0, -14.0)), "depth_m": 1.0}],
-                      "target": int(rng.choice([p["id"] for p in placards]))},
-            "pose_source": {"noise_px": 0.0, "dropout": 0.0}}
+    from test_synthetic_accuracy import scene_spec as earlier_scene
+    return earlier_scene(rng, near=True)
 
 
 @dataclass

@@ -31,6 +31,7 @@ import yaml
 from dip3d_vehicle.config import load_params
 from dip3d_vehicle.perception.keypoints_file import GivenKeypoints
 from dip3d_vehicle.perception.pipeline import Perception
+from scene_families import noisy
 
 NOISE_PX = (0.0, 1.0, 2.0, 4.0)
 CLEAR_DEG = 2.0
@@ -130,15 +131,6 @@ def scenes(tmp: Path, n_scenes: int, near: bool, seed0: int, margin_deg: float =
             yield scenario, frame
             if made == n_scenes:
                 return
-
-
-def noisy(keypoints: dict, sigma_px: float, rng: np.random.Generator) -> dict:
-    """Return a keypoints dict with Gaussian noise of sigma_px added to every point."""
-    out = {"rectified": False, "source": "test"}
-    for side in ("left", "right"):
-        out[side] = {k: (np.asarray(v, float) + rng.normal(0.0, sigma_px, 2)).tolist()
-                     for k, v in keypoints[side].items()}
-    return out
 
 
 def scene_counts(tmp: Path, n_scenes: int, near: bool, draws: int, seed0: int = 0, margin_deg: float = 0.0):
