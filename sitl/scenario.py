@@ -209,12 +209,13 @@ class Diver:
         return s is not None and s <= t_s < s + self.stop_gesture_hold_s
 
     def stop_fraction(self, t_s: float) -> float:
-        """Return how far both arms are raised into the stop gesture (ramps of raise_s around it)."""
+        """Return how far both arms are raised into the stop gesture (raised over raise_s from
+        stop_gesture_at_s, lowered over raise_s before stop_gesture_at_s + stop_gesture_hold_s)."""
         s = self.stop_gesture_at_s
         if s is None:
             return 0.0
         r = max(self.raise_s, 1e-6)
-        return float(np.clip(min((t_s - (s - r)) / r, ((s + self.stop_gesture_hold_s + r) - t_s) / r), 0.0, 1.0))
+        return float(np.clip(min((t_s - s) / r, ((s + self.stop_gesture_hold_s) - t_s) / r), 0.0, 1.0))
 
     def raised_fraction(self, t_s: float) -> float:
         """Return how far the arm is raised: 0 hanging, 1 pointing (linear ramps of raise_s)."""

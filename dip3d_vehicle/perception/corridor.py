@@ -49,13 +49,27 @@ def corridor_polygon(arm: ArmKeypoints, width: int, height: int, half_angle_rad:
     return np.array([start + near * n, end + far * n, end - far * n, start - near * n])
 
 
-def merge_candidates(base: Candidates, extra: Candidates, radius_px: float = 3.0) -> Candidates:
-    """Return ``base`` plus the ``extra`` candidates not within ``radius_px`` of a base one (left px)."""
+def merge_candidates(base: Candidates, extra: Candidates, radius_px: float = 3.0, neighbourhood_px: float = 25.0,
+                     disparity_tol_px: float = 2.0) -> Candidates:
+    """Return ``base`` plus the ``extra`` candidates that are new and consistent with it (left px).
+
+    An extra candidate within ``radius_px`` of a base one is the same feature (not added twice);
+    one among base features (within ``neighbourhood_px``) whose disparity agrees with none of
+    theirs (within ``disparity_tol_px`` or 10 %) is a false match of the low-threshold pass, e.g.
+    across an occlusion boundary, and is dropped: the corridor adds objects, not outliers.
+    """
     if len(extra) == 0:
         return base
     if len(base):
-        dist, _ = cKDTree(base.left_px).query(extra.left_px, k=1)
-        extra = extra.subset(dist > radius_px)
+        tree = cKDTree(base.left_px)
+        dist, _ = tree.query(extra.left_px, k=1)
+        keep = dist > radius_px
+        disp_base, disp_extra = base.disparity_px, extra.disparity_px
+        for i, near in enumerate(tree.query_ball_point(extra.left_px, neighbourhood_px)):
+            if keep[i] and near:
+                gap = np.abs(disp_base[near] - disp_extra[i])
+                keep[i] = bool(np.any(gap <= np.maximum(disparity_tol_px, 0.1 * np.abs(disp_base[near]))))
+        extra = extra.subset(keep)
     if len(extra) == 0:
         return base
     desc = (np.vstack([base.descriptors, extra.descriptors])

@@ -102,3 +102,15 @@ def test_far_diver_pose_not_rejected_for_stereo_depth_noise():
                           np.array([0.05, 0.05, 0.05]), 3.0) is not None
     assert load_params("paper")["filters.joint_dz_sigmas"] == 0.0
     assert load_params("paper")["corridor.enabled"] is False
+
+
+def test_merge_drops_a_corridor_match_that_agrees_with_no_nearby_feature():
+    """Among main-pass features at 50 and 100 px disparity, a corridor match at 80 px is an occlusion mismatch."""
+    base = Candidates(np.array([[100.0, 100.0], [110.0, 100.0]]), np.array([[50.0, 100.0], [10.0, 100.0]]),
+                      np.zeros((2, 128), np.float32), np.zeros(2))
+    extra = Candidates(np.array([[105.0, 104.0], [106.0, 96.0], [400.0, 100.0]]),
+                       np.array([[25.0, 104.0], [56.0, 96.0], [380.0, 100.0]]), np.zeros((3, 128), np.float32), np.zeros(3))
+    merged = merge_candidates(base, extra)
+    assert len(merged) == 4
+    assert [106.0, 96.0] in merged.left_px.tolist() and [400.0, 100.0] in merged.left_px.tolist()
+    assert [105.0, 104.0] not in merged.left_px.tolist()
