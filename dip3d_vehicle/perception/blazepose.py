@@ -27,7 +27,7 @@ from ..models import model_path
 from .blazepose_decode import DETECTOR_SIZE, decode, weighted_nms
 from .blazepose_roi import Roi, crop_matrix, letterbox_matrix, roi_from_points, warp
 from .calibration import StereoRig
-from .joint_stereo import match_joint_disparity
+from .joint_stereo import match_joint_disparity, subpixel_peak as _subpixel
 from .pose import ARM_INDICES, PoseEstimator
 from .values import ArmKeypoints
 
@@ -447,16 +447,6 @@ def _small_grey(patch: np.ndarray, scale: float) -> np.ndarray:
     if small.ndim == 3:
         small = cv2.cvtColor(small, cv2.COLOR_BGR2GRAY)
     return small.astype(np.float32)
-
-
-def _subpixel(scores: np.ndarray, k: int) -> float:
-    """Return the parabola-refined position of the peak ``k`` of a 1D score array."""
-    if 0 < k < len(scores) - 1:
-        a, b, c = scores[k - 1], scores[k], scores[k + 1]
-        den = a - 2 * b + c
-        if den < 0:
-            return k + 0.5 * (a - c) / den
-    return float(k)
 
 
 def _body_box(pose: PoseLandmarks, width: int, height: int) -> tuple[int, int, int, int] | None:

@@ -16,7 +16,7 @@ import math
 import cv2
 import numpy as np
 
-__all__ = ["match_joint_disparity"]
+__all__ = ["match_joint_disparity", "subpixel_peak"]
 
 
 def _grey(patch: np.ndarray) -> np.ndarray:
@@ -26,7 +26,7 @@ def _grey(patch: np.ndarray) -> np.ndarray:
     return patch.astype(np.float32)
 
 
-def _peak(scores: np.ndarray, k: int) -> float:
+def subpixel_peak(scores: np.ndarray, k: int) -> float:
     """Return the parabola-refined position of peak ``k`` of a 1D score array."""
     if 0 < k < len(scores) - 1:
         a, b, c = scores[k - 1], scores[k], scores[k + 1]
@@ -70,5 +70,5 @@ def match_joint_disparity(left: np.ndarray, right: np.ndarray, left_xy: np.ndarr
         best = int(np.argmax(scores))
         if scores[best] < min_score:
             continue
-        out[k] = (x0 + half_px + _peak(scores, best) + (xl - x), yl)
+        out[k] = (x0 + half_px + subpixel_peak(scores, best) + (xl - x), yl)
     return out
