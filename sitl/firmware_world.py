@@ -35,17 +35,13 @@ from typing import Any, Mapping
 
 from pymavlink.dialects.v20 import ardupilotmega as m2
 
-from behaviours.loop import Controller, FrameProcessor, build_mission
 from dip3d_vehicle.clock import SimClock
 from dip3d_vehicle.link import VehicleLink
 from dip3d_vehicle.link.state import mode_name
-from dip3d_vehicle.perception.keypoints_file import GivenKeypoints
-from dip3d_vehicle.perception.pipeline import Perception
 
 from .ardusub_sitl import DEFAULT_HOME, ArdusubSitl, SitlOptions
 from .autopilot import Event
 from .dynamics import VehicleState
-from .render import StereoRenderer
 from .scenario import Scenario
 from .simulation import Received, Router, SimPilot, Simulation, _Peer
 
@@ -215,7 +211,6 @@ class FirmwareSimulation(Simulation):
         self.clock = SimClock()
         if hasattr(log, "set_clock"):  # the run recorder: its timeline is the simulated one
             log.set_clock(self.clock)
-        self.on_step: Any = None  # called with the sim time after every step (the live story printer)
         v = scenario.initial_vehicle_pose
         start = VehicleState(north_m=v.north_m, east_m=v.east_m, depth_m=v.depth_m, yaw_rad=v.yaw_rad)
         lat0, lon0 = DEFAULT_HOME[0], DEFAULT_HOME[1]
@@ -239,20 +234,7 @@ class FirmwareSimulation(Simulation):
         except BaseException:
             self.sitl.stop()
             raise
-        self.rig = scenario.rig(params["calib.alpha"])
-        self.renderer = StereoRenderer(scenario, params)
-        self.pose = GivenKeypoints(params["pose.arm"])
-        self.perception = Perception(self.rig, params, self.pose)
-        self.processor = FrameProcessor(self.perception, lambda f: self.pose.provide(f.meta["keypoints"]))
-        self.mission = build_mission(params, self.rig, scenario.camera.image_size)
-        self.controller = Controller(self.link, self.mission, self.clock)
-        self.trajectory: list[tuple] = []
-        self.servo_log: list[tuple] = []
-        self.range_at_arrival: float | None = None
-        self.last_frame = None
-        self.last_meta: dict = {}
-        self.fault_at_s: float | None = None
-        self.ticks: list[tuple[float, str, bool, bool]] = []
+        self._build_controller(scenario, params)
         self._wall0: float | None = None
         self._next_sticks_s = 0.0
         self._controller_had_sticks = False

@@ -365,6 +365,10 @@ class Simulation:
         self.pilot = SimPilot(self.router.address, self.clock, self.link.config.engage_mode,
                               float(params["sitl.gcs_arm_at_s"]))
         self.router.step()
+        self._build_controller(scenario, params)
+
+    def _build_controller(self, scenario: Scenario, params: Mapping[str, Any]) -> None:
+        """Build the camera, perception, mission and controller over ``self.link``, and the run's records."""
         self.rig = scenario.rig(params["calib.alpha"])
         self.renderer = StereoRenderer(scenario, params)
         self.pose = SimPose(params)
