@@ -8,8 +8,9 @@ One tick, single-threaded, on the injected clock::
     send the states' messages        # STATUSTEXT to the pilot, DO_SET_SERVO for the lights
     link.tick(command if perception is fresh else None, perception_fresh, capture stamp)
 
-Perception never blocks the tick: in ``run`` a ``PerceptionWorker`` thread processes the newest
-camera frame (older frames are dropped and counted) and the tick picks up whatever result is new;
+Perception never blocks the tick: in ``run`` the project's one ``PerceptionWorker``
+(``dip3d_vehicle/worker.py``) processes the newest camera frame with ``FrameProcessor`` (older
+frames are dropped and counted) and the tick picks up whatever result is new;
 in the simulator, results are delivered after a modelled latency. While the newest result is
 older than ``behaviour.perception_stale_s`` no motion is commanded (the link also refuses to engage
 after ``link.perception_timeout_s``).
@@ -18,14 +19,13 @@ after ``link.perception_timeout_s``).
 from __future__ import annotations
 
 import math
-import threading
 import time
 from dataclasses import dataclass, field
 from typing import Any, Callable, Mapping
 
 import numpy as np
 
-from dip3d_vehicle.frames import FrameGuard, StereoFrame
+from dip3d_vehicle.frames import StereoFrame
 from dip3d_vehicle.perception.pipeline import Perception
 from dip3d_vehicle.perception.triangulation import triangulate
 from dip3d_vehicle.perception.values import Candidates
@@ -36,7 +36,7 @@ from .blackboard import SEVERITY, BehaviourConfig, Blackboard, Observation, SetS
 from .machine import Mission
 from .tracker import TargetTracker, TrackerConfig
 
-__all__ = ["build_mission", "FrameProcessor", "Controller", "PerceptionWorker", "MAV_CMD_DO_SET_SERVO"]
+__all__ = ["build_mission", "FrameProcessor", "Controller", "MAV_CMD_DO_SET_SERVO"]
 
 MAV_CMD_DO_SET_SERVO = 183
 
@@ -201,108 +201,6 @@ def _command_long(target_system: int, target_component: int, command: int, *para
     from pymavlink.dialects.v20 import ardupilotmega as m2
     p = list(params) + [0.0] * (7 - len(params))
     return m2.MAVLink_command_long_message(target_system, target_component, command, 0, *p)
-
-
-class PerceptionWorker:
-    """Background perception for ``run``: the newest frame wins, stale results are dropped.
-
-    A grabber thread reads the camera continuously and keeps only the newest frame (frames it
-    overwrites are counted in ``dropped_frames``); the worker thread processes the newest frame with
-    the mission's current need and publishes the result. ``take()`` (called by the tick) returns a
-    result once; a result replaced before it was taken is counted in ``dropped_results``; a frame
-    older than ``max_frame_age_s`` when the worker gets to it is skipped (``stale_frames``), and a
-    frame the ``FrameGuard`` rejects (an eye missing or black, wrong size, stamp or index not
-    increasing) is never processed (counted in ``guard.rejected`` by reason).
-
-    Args:
-        source: an open StereoSource (iterable of StereoFrame).
-        processor: the FrameProcessor.
-        need: callable returning the mission's current need ("full" / "track").
-        roi: callable returning the tracker's search box (or None), used for "track".
-        clock: the loop clock (a WallClock onboard); frames are stamped with it on arrival.
-        max_frame_age_s: skip frames older than this.
-        image_size: the calibration's (width, height); None learns it from the first good frame.
-    """
-
-    def __init__(self, source, processor: FrameProcessor, need: Callable[[], str], clock,
-                 max_frame_age_s: float = 0.5, roi: Callable[[], Any] | None = None,
-                 image_size: tuple[int, int] | None = None) -> None:
-        self.source, self.processor, self.need, self.clock = source, processor, need, clock
-        self.guard = FrameGuard(image_size)  # missing/black eye, wrong size, out of order: no 3D decision
-        self.roi = roi
-        self.busy = False
-        self.max_frame_age_s = max_frame_age_s
-        self._lock = threading.Lock()
-        self._frame: tuple[float, StereoFrame] | None = None
-        self._result: Observation | None = None
-        self._stop = threading.Event()
-        self.ended = threading.Event()
-        self.error: BaseException | None = None
-        self.dropped_frames = self.dropped_results = self.stale_frames = self.frames_in = 0
-        self._threads = [threading.Thread(target=self._grab, name="dip3d-grab", daemon=True),
-                         threading.Thread(target=self._work, name="dip3d-perceive", daemon=True)]
-
-    def start(self) -> None:
-        """Start both threads."""
-        for t in self._threads:
-            t.start()
-
-    def stop(self) -> None:
-        """Ask both threads to stop and wait briefly for them."""
-        self._stop.set()
-        for t in self._threads:
-            t.join(timeout=2.0)
-
-    def take(self) -> Observation | None:
-        """Return the newest result not taken yet, or None."""
-        with self._lock:
-            out, self._result = self._result, None
-        return out
-
-    def _grab(self) -> None:
-        try:
-            for frame in self.source:
-                if self._stop.is_set():
-                    break
-                with self._lock:
-                    if self._frame is not None:
-                        self.dropped_frames += 1
-                    self._frame = (self.clock.now(), frame)
-                    self.frames_in += 1
-        except BaseException as exc:  # noqa: BLE001 - reported by the main loop
-            self.error = exc
-        finally:
-            self.ended.set()
-
-    def _work(self) -> None:
-        while not self._stop.is_set():
-            with self._lock:
-                item, self._frame = self._frame, None
-            if item is None:
-                if self.ended.is_set():
-                    return
-                time.sleep(0.002)
-                continue
-            stamp, frame = item
-            if self.clock.now() - stamp > self.max_frame_age_s:
-                self.stale_frames += 1
-                continue
-            if self.guard.check(frame):
-                continue  # counted by reason in self.guard.rejected; perception goes stale -> hold
-            self.busy = True
-            try:
-                need = self.need()
-                roi = self.roi() if (self.roi is not None and need == "track") else None
-                obs = self.processor.process(frame, need, stamp, roi)
-            except BaseException as exc:  # noqa: BLE001
-                self.error = exc
-                return
-            finally:
-                self.busy = False
-            with self._lock:
-                if self._result is not None:
-                    self.dropped_results += 1
-                self._result = obs
 
 
 def observation_summary(obs: Observation | None) -> dict:

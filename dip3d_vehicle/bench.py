@@ -17,13 +17,16 @@ hybrid is ``BenchPose`` below, not a pose backend.
 
 Accuracy (simulated frames): a frame is correct when the selected target's left-image point
 (original pixels) lies inside the intended placard's polygon (``meta["placards"][id]``).
+``accuracy_blazepose`` is the same over the frames whose pose was BlazePose's (no truth fallback;
+a followed frame counts with its keyframe's source).
 
 Memory: peak resident set size (Linux ``VmHWM``) while the profile runs, reset before each profile
 through ``/proc/self/clear_refs``; reported absolute and above the RSS at the profile's start.
 Where the reset is not available the process's ``ru_maxrss`` is reported (monotonic).
 
-Latency (``latency_run``): frames arrive at the camera rate into a ``PerceptionWorker`` (newest
-frame wins); a setpoint tick at ``setpoint_hz`` consumes the newest result; frame-to-setpoint
+Latency (``latency_run``): frames arrive at the camera rate (15 Hz by default) through a
+``CameraFeed`` into the project's one ``PerceptionWorker`` (``worker.py``, the one ``run`` uses;
+newest frame wins); a setpoint tick at ``setpoint_hz`` consumes the newest result; frame-to-setpoint
 latency = send time of the first setpoint using a result - capture time of its frame (results
 older than ``max_age_s`` are stale: never used, counted); capture-to-result = when the worker
 finished a frame - its capture time, for every result.
@@ -50,7 +53,7 @@ from .perception.keypoints_file import GivenKeypoints
 from .perception.pipeline import Perception, make_pose_estimator
 from .perception.pose import PoseEstimator
 from .perception.values import ArmKeypoints
-from .worker import PerceptionWorker
+from .worker import CameraFeed, PerceptionWorker
 
 __all__ = ["BenchPose", "BenchFrames", "simulated_frames", "folder_frames", "run_profile", "run_bench",
            "latency_run", "format_table", "STAGES", "PAPER_STATIC_POSE"]
@@ -305,6 +308,7 @@ def run_profile(profile: str, data: BenchFrames, overrides: Mapping[str, Any] | 
     starts = set(data.sequences)
     wall, stages, sources, statuses, correct = [], {s: [] for s in STAGES}, [], {}, []
     decisions: dict[str, int] = {}
+    correct_neural: list[bool] = []  # scored frames whose pose was BlazePose's (no truth fallback)
     cpu0 = time.process_time()
     with _PeakMemory() as mem:
         for i, frame in enumerate(data.frames):
@@ -323,6 +327,8 @@ def run_profile(profile: str, data: BenchFrames, overrides: Mapping[str, Any] | 
             ok = frame_correct(doc, frame.meta)
             if ok is not None:
                 correct.append(ok)
+                if pose.last_source == "blazepose":
+                    correct_neural.append(ok)
                 kind = decision_class(doc, ok)
                 decisions[kind] = decisions.get(kind, 0) + 1
     cpu_ms = (time.process_time() - cpu0) * 1e3
@@ -341,6 +347,8 @@ def run_profile(profile: str, data: BenchFrames, overrides: Mapping[str, Any] | 
         "memory_method": mem.method,
         "accuracy": None if not correct else round(sum(correct) / len(correct), 4),
         "correct": int(sum(correct)), "scored_frames": len(correct),
+        "accuracy_blazepose": None if not correct_neural else round(sum(correct_neural) / len(correct_neural), 4),
+        "correct_blazepose": int(sum(correct_neural)), "scored_blazepose_frames": len(correct_neural),
         "status": statuses,
         "decisions": decisions,
         "pose_source": dict(pose.counts),
@@ -352,7 +360,8 @@ def run_profile(profile: str, data: BenchFrames, overrides: Mapping[str, Any] | 
 
 
 def run_bench(data: BenchFrames, profiles: Sequence[str] = ("paper", "default", "fast"),
-              latency_profile: str | Sequence[str] | None = ("fast",), latency_s: float = 10.0) -> dict:
+              latency_profile: str | Sequence[str] | None = ("fast",), latency_s: float = 10.0,
+              camera_hz: float = 15.0) -> dict:
     """Run every profile on the same frames; add each one's fps ratio to ``paper``'s.
 
     ``latency_profile``: profile name(s) of the worker latency run(s) (``latency``: the first one,
@@ -366,7 +375,7 @@ def run_bench(data: BenchFrames, profiles: Sequence[str] = ("paper", "default", 
     for res in out["profiles"].values():
         res["fps_ratio_to_paper"] = round(res["fps"] / base, 2) if base and res["fps"] else None
     names = [latency_profile] if isinstance(latency_profile, str) else list(latency_profile or ())
-    runs = [latency_run(name, data, duration_s=latency_s) for name in names if name]
+    runs = [latency_run(name, data, camera_hz=camera_hz, duration_s=latency_s) for name in names if name]
     if runs:
         out["latency"], out["latency_runs"] = runs[0], runs
     out["load_average_1min_at_end"] = round(_load(), 2)
@@ -392,7 +401,18 @@ def _load() -> float:
 # Frame-to-setpoint latency through a newest-frame-wins worker
 
 
-def latency_run(profile: str, data: BenchFrames, camera_hz: float = 10.0, setpoint_hz: float = 20.0,
+def paced_frames(frames: Sequence[StereoFrame], rate_hz: float, stop: threading.Event,
+                 clock: Callable[[], float] = time.monotonic) -> Iterable[StereoFrame]:
+    """Yield ``frames`` cyclically at ``rate_hz`` (a camera that costs nothing) until ``stop`` is set."""
+    period, k, t_next = 1.0 / rate_hz, 0, clock()
+    while not stop.is_set():
+        yield frames[k % len(frames)]
+        k += 1
+        t_next += period
+        stop.wait(max(0.0, t_next - clock()))
+
+
+def latency_run(profile: str, data: BenchFrames, camera_hz: float = 15.0, setpoint_hz: float = 20.0,
                 duration_s: float = 10.0, max_age_s: float = 0.5) -> dict:
     """Stream frames at ``camera_hz`` into a PerceptionWorker; a ``setpoint_hz`` tick uses the newest result.
 
@@ -414,17 +434,7 @@ def latency_run(profile: str, data: BenchFrames, camera_hz: float = 10.0, setpoi
     clock = time.monotonic
     worker = PerceptionWorker(process, max_age_s=max_age_s, clock=clock).start()
     stop = threading.Event()
-
-    def camera() -> None:
-        period, k, t_next = 1.0 / camera_hz, 0, clock()
-        while not stop.is_set():
-            frame = data.frames[k % len(data.frames)]
-            worker.submit(frame, clock())
-            k += 1
-            t_next += period
-            stop.wait(max(0.0, t_next - clock()))
-
-    cam = threading.Thread(target=camera, name="camera", daemon=True)
+    cam = CameraFeed(paced_frames(data.frames, camera_hz, stop, clock), worker)
     latencies, ages, ticks, empty, tick_late = [], [], 0, 0, []
     processing, seen_seq = [], -1
     period, t_end = 1.0 / setpoint_hz, clock() + duration_s
@@ -451,7 +461,7 @@ def latency_run(profile: str, data: BenchFrames, camera_hz: float = 10.0, setpoi
         else:
             ages.append((now - found[1]) * 1e3)
     stop.set()
-    cam.join()
+    cam.stop()
     worker.stop()
     c = worker.counters
     return {"profile": profile, "camera_hz": camera_hz, "setpoint_hz": setpoint_hz, "duration_s": duration_s,
@@ -476,14 +486,16 @@ def format_table(report: Mapping[str, Any]) -> str:
              f"cpus: {report['cpu_count']}  load average (1 min) at start {report['load_average_1min_at_start']}, "
              f"at end {report.get('load_average_1min_at_end')}"]
     head = (f"{'profile':<16}{'fps':>8}{'x paper':>9}{'p50 ms':>9}{'p99 ms':>9}{'cpu ms':>9}{'peak MiB':>10}"
-            f"{'accuracy':>10}  pose source")
+            f"{'accuracy':>10}{'blazepose':>11}  pose source")
     lines += ["", head, "-" * len(head)]
     for name, r in report["profiles"].items():
         acc = "n/a" if r["accuracy"] is None else f"{r['correct']}/{r['scored_frames']}"
+        neural = "n/a" if r.get("accuracy_blazepose") is None else \
+            f"{r['correct_blazepose']}/{r['scored_blazepose_frames']}"
         src = ", ".join(f"{k} {v}" for k, v in r["pose_source"].items() if v)
         lines.append(f"{name:<16}{r['fps']:>8.2f}{_fmt(r['fps_ratio_to_paper']):>9}{_fmt(r['latency_ms']['p50']):>9}"
                      f"{_fmt(r['latency_ms']['p99']):>9}{_fmt(r['cpu_ms_per_frame']):>9}{r['peak_rss_mib']:>10.0f}"
-                     f"{acc:>10}  {src}")
+                     f"{acc:>10}{neural:>11}  {src}")
     lines += ["", "decisions per scored frame (nothing_on_ray and abstentions apart from wrong picks)"]
     for name, r in report["profiles"].items():
         lines.append(f"{name:<16}" + ", ".join(f"{k} {v}" for k, v in sorted(r.get("decisions", {}).items())))

@@ -26,6 +26,10 @@ def test_report_has_every_profile_metric(tiny_report):
         assert r["peak_rss_mib"] > 0 and r["cpu_ms_per_frame"] >= 0
         assert r["scored_frames"] == 2 and 0.0 <= r["accuracy"] <= 1.0
         assert 1 <= sum(r["pose_source"].values()) <= 2   # followed frames run no pose
+        assert r["scored_blazepose_frames"] <= r["scored_frames"]
+        if not r["follow"]:  # followed frames inherit their keyframe's pose source
+            assert r["scored_blazepose_frames"] <= r["pose_source"]["blazepose"]
+        assert r["correct_blazepose"] <= r["scored_blazepose_frames"]
     assert tiny_report["profiles"]["paper"]["fps_ratio_to_paper"] == 1.0
     assert tiny_report["profiles"]["paper"]["pose_settings"]["tracking"] is False
     assert tiny_report["profiles"]["fast"]["pose_settings"]["tracking"] is True
@@ -36,7 +40,7 @@ def test_report_has_every_profile_metric(tiny_report):
 
 def test_latency_run_counts_frames(tiny_report):
     lat = tiny_report["latency"]
-    assert lat["profile"] == "fast" and lat["frames_submitted"] >= 1
+    assert lat["profile"] == "fast" and lat["frames_submitted"] >= 1 and lat["camera_hz"] == 15.0
     assert lat["frames_submitted"] >= lat["frames_processed"] + lat["frames_dropped"] - 1
     assert {"p50", "p99"} <= set(lat["frame_to_setpoint_ms"])
 

@@ -93,3 +93,63 @@ def test_errors_are_counted_and_the_worker_keeps_going():
         assert worker.counters.errors == 1
         assert isinstance(worker.last_error, ValueError)
         assert worker.latest()[0] == "good"
+
+
+def test_old_frames_are_skipped_and_rejected_frames_never_processed():
+    clock = FakeClock()
+    seen = []
+
+    def process(frame, stamp_s):
+        seen.append((frame, stamp_s))
+        return frame
+
+    with PerceptionWorker(process, clock=clock, max_frame_age_s=0.5, stamped=True,
+                          accept=lambda f: "black" if f == "black" else "") as worker:
+        worker.submit("old", 99.0)       # 1 s old when the thread gets to it: skipped
+        assert worker.wait_idle(5.0)
+        worker.submit("black", 100.0)    # refused by the check
+        assert worker.wait_idle(5.0)
+        worker.submit("good", 100.0)
+        assert worker.wait_idle(5.0)
+    assert seen == [("good", 100.0)]
+    assert worker.counters.stale_frames == 1 and worker.counters.rejected == 1
+    assert worker.counters.processed == 1
+
+
+def test_a_result_replaced_before_it_was_taken_is_counted():
+    clock = FakeClock()
+    with PerceptionWorker(lambda f: f, clock=clock) as worker:
+        for k in range(3):
+            worker.submit(k, 100.0)
+            assert worker.wait_idle(5.0)
+        assert worker.has_new()
+        assert worker.take_new().result == 2
+        assert not worker.has_new()
+        assert worker.counters.dropped_results == 2
+
+
+def test_camera_feed_submits_every_frame_and_ends_with_the_source():
+    from dip3d_vehicle.worker import CameraFeed
+
+    got = []
+    with PerceptionWorker(lambda f: got.append(f) or f) as worker:
+        feed = CameraFeed(iter(range(5)), worker).start()
+        assert feed.ended.wait(5.0)
+        assert worker.wait_idle(5.0)
+        feed.stop()
+    assert feed.frames_in == 5 and feed.error is None
+    assert got[-1] == 4 and worker.counters.submitted == 5
+    assert worker.counters.processed + worker.counters.dropped_frames == 5
+
+
+def test_camera_feed_reports_a_failing_source():
+    from dip3d_vehicle.worker import CameraFeed
+
+    def broken():
+        yield 1
+        raise OSError("camera unplugged")
+
+    with PerceptionWorker(lambda f: f) as worker:
+        feed = CameraFeed(broken(), worker).start()
+        assert feed.ended.wait(5.0)
+    assert isinstance(feed.error, OSError) and feed.frames_in == 1

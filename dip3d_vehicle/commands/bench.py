@@ -26,8 +26,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--size", default=None, metavar="WxH", help="render size (default the scenario camera's)")
     parser.add_argument("--source", default=None, help="a stereo folder (or source spec) instead of the simulator")
     parser.add_argument("--calib", action="append", default=[], help="calibration file(s) for --source")
-    parser.add_argument("--latency-profile", default="fast",
+    parser.add_argument("--latency-profile", default="default,fast",
                         help="comma-separated profiles of the worker latency runs ('' to skip)")
+    parser.add_argument("--camera-hz", type=float, default=15.0,
+                        help="camera rate of the worker latency runs, Hz (default 15)")
     parser.add_argument("--latency-s", type=float, default=10.0, help="duration of the latency run, seconds")
 
 
@@ -51,6 +53,7 @@ def run(args: argparse.Namespace) -> int:
         data = simulated_frames(args.scenario, seeds, args.frames, size=size)
     profiles = [p.strip() for p in args.profiles.split(",") if p.strip()]
     latency = [p.strip() for p in args.latency_profile.split(",") if p.strip()]
-    report = run_bench(data, profiles, latency_profile=latency, latency_s=args.latency_s)
+    report = run_bench(data, profiles, latency_profile=latency, latency_s=args.latency_s,
+                       camera_hz=args.camera_hz)
     print(json.dumps(report) if args.json else format_table(report))
     return 0

@@ -12,8 +12,9 @@ with ``--enable`` (``link.auto_enable``). Ctrl-C stops: the link sends the stop 
 from __future__ import annotations
 
 import argparse
-import sys
 import itertools
+import math
+import sys
 import time
 from pathlib import Path
 
@@ -42,12 +43,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Run the mission until Ctrl-C, the end of the source or --duration."""
-    from behaviours.loop import Controller, FrameProcessor, PerceptionWorker, build_mission, observation_summary
+    from behaviours.loop import Controller, FrameProcessor, build_mission, observation_summary
+    from dip3d_vehicle.frames import FrameGuard
     from dip3d_vehicle.clock import WallClock
     from dip3d_vehicle.link import VehicleLink
     from dip3d_vehicle.perception.calibration_io import load_rig
     from dip3d_vehicle.perception.pipeline import Perception, make_pose_estimator
     from dip3d_vehicle.sources import open_source
+    from dip3d_vehicle.worker import CameraFeed, PerceptionWorker
 
     params = params_from_args(args)
     over = {}
@@ -98,19 +101,27 @@ def run(args: argparse.Namespace) -> int:
     if log is not None:
         log.attach_link(link)
         processor = RecordingProcessor(processor, log)
-    worker = PerceptionWorker(itertools.chain([first], frames), processor,
-                              lambda: mission.needs, clock, params["mission.max_frame_age_s"],
-                              roi=lambda: mission.track_roi(rig, size), image_size=tuple(rig.image_size))
+    def perceive(frame, stamp_s: float):
+        need = mission.needs  # what the current state needs: the full core or the tracker's features
+        roi = mission.track_roi(rig, size) if need == "track" else None
+        return processor.process(frame, need, stamp_s, roi)
+
+    guard = FrameGuard(tuple(rig.image_size))  # missing/black eye, wrong size, out of order: no 3D decision
+    worker = PerceptionWorker(perceive, max_age_s=math.inf, clock=clock.now, name="dip3d-perceive",
+                              max_frame_age_s=params["mission.max_frame_age_s"], accept=guard.check, stamped=True)
+    feed = CameraFeed(itertools.chain([first], frames), worker, name="dip3d-grab")
     period = 1.0 / params["behaviour.tick_rate_hz"]
     printed = 0
     t_end = None if args.duration is None else clock.now() + args.duration
     print(f"run: camera {args.camera}, calibration {rig.source}, {size[0]}x{size[1]}, link {link.config.url}; "
           f"Ctrl-C to stop", flush=True)
     worker.start()
+    feed.start()
     next_tick = clock.now()
     try:
         while t_end is None or clock.now() < t_end:
-            obs = worker.take()
+            done = worker.take_new()
+            obs = None if done is None else done.result
             rec = controller.tick(obs)
             if log is not None:
                 if obs is not None:
@@ -118,9 +129,10 @@ def run(args: argparse.Namespace) -> int:
                                "target": _target(obs, rig)})
                 log.tick(rec.t_s, rec, mission, obs, link)
             printed = _print_new(link.events + mission.bb.story, printed)
-            if worker.error is not None:
-                raise Dip3dError(f"perception: {worker.error}")
-            if worker.ended.is_set() and obs is None and worker.take() is None and not worker.busy:
+            error = worker.last_error or feed.error
+            if error is not None:
+                raise Dip3dError(f"perception: {error}")
+            if feed.ended.is_set() and obs is None and worker.idle and not worker.has_new():
                 break
             next_tick += period
             delay = next_tick - clock.now()
@@ -131,14 +143,17 @@ def run(args: argparse.Namespace) -> int:
     except KeyboardInterrupt:
         print("run: stopping", flush=True)
     finally:
+        feed.stop()
         worker.stop()
         link.close()
         source.close()
         if log is not None:
             log.story(link.events + mission.bb.story)
             close_recorder(log)
-    print(f"run: frames in {worker.frames_in}, dropped {worker.dropped_frames} (newest wins), stale "
-          f"{worker.stale_frames}, results dropped {worker.dropped_results}; arrivals {mission.bb.arrivals}")
+    c = worker.counters
+    print(f"run: frames in {feed.frames_in}, dropped {c.dropped_frames} (newest wins), stale "
+          f"{c.stale_frames}, rejected {dict(guard.rejected)}, results dropped {c.dropped_results}; "
+          f"arrivals {mission.bb.arrivals}")
     return 0
 
 
