@@ -311,6 +311,7 @@ class StereoStats:
     search_failed: int = 0
     tracked: int = 0
     detected: int = 0
+    concurrent: int = 0
 
 
 class BlazePoseEstimator(PoseEstimator):
@@ -320,12 +321,17 @@ class BlazePoseEstimator(PoseEstimator):
 
     def __init__(self, pose: BlazePose, arm: str = "right", tracking: bool = True,
                  stereo_search: str = "roi", max_disparity_px: float = 400.0,
-                 joint_disparity: str = "landmarks") -> None:
+                 joint_disparity: str = "landmarks", concurrent_eyes: bool = True) -> None:
         """Wrap a ``BlazePose``; ``stereo_search`` is "roi" (search along rows) or "detect".
 
         ``joint_disparity``: "landmarks" = the right image's landmarks as BlazePose places them;
         "match" = each arm joint's right position found by patch matching along its rectified
         row around them (``joint_stereo.match_joint_disparity``).
+
+        ``concurrent_eyes``: while both eyes are tracked, the right landmark run starts with the
+        left one, in a second thread (onnxruntime releases the GIL): its ROI is this frame's left
+        ROI shifted by the body's disparity measured with the PREVIOUS frame's landmarks (the
+        sequential search waits for this frame's); any failure falls back to the sequential path.
 
         Keypoints are returned whatever their confidence: the pipeline applies
         ``pose.min_confidence`` (and reports ``pose_low_confidence`` rather than ``no_pose``).
@@ -342,6 +348,7 @@ class BlazePoseEstimator(PoseEstimator):
         if joint_disparity not in ("landmarks", "match"):
             raise ValueError(f"joint_disparity must be 'landmarks' or 'match', not {joint_disparity!r}")
         self.joint_disparity = joint_disparity
+        self.concurrent_eyes = bool(concurrent_eyes)
         self.stats = StereoStats()
         self.last: tuple[PoseLandmarks | None, PoseLandmarks | None] = (None, None)
         self._left, self._right = _Track(), _Track()
@@ -352,7 +359,8 @@ class BlazePoseEstimator(PoseEstimator):
         return cls(BlazePose.from_params(params), arm=params["pose.arm"], tracking=params["blazepose.tracking"],
                    stereo_search=params["blazepose.stereo_search"],
                    max_disparity_px=params["blazepose.max_disparity_px"],
-                   joint_disparity=params.get("blazepose.joint_disparity", "landmarks"))
+                   joint_disparity=params.get("blazepose.joint_disparity", "landmarks"),
+                   concurrent_eyes=params.get("blazepose.concurrent_eyes", True))
 
     def reset(self) -> None:
         """Forget both cameras' tracking state."""
@@ -360,11 +368,16 @@ class BlazePoseEstimator(PoseEstimator):
 
     def estimate(self, left_rect: np.ndarray, right_rect: np.ndarray, rig: StereoRig) -> ArmKeypoints | None:
         """Return the arm in rectified pixels of both images (confidence = visibility), or None."""
-        left = self._follow(left_rect, self._left)
-        self._left.update(left, self.tracking)
-        right = None
-        if left is not None:
-            right = self._right_pose(left_rect, right_rect, left, rig.disparity_sign)
+        both = self._both_concurrently(left_rect, right_rect, rig.disparity_sign)
+        if both is not None and both[0] is not None:
+            left, right = both
+            self._left.update(left, self.tracking)
+        else:  # sequential; after a lost concurrent run the tracked ROI is not tried twice
+            left = self.pose.process(left_rect) if both is not None else self._follow(left_rect, self._left)
+            self._left.update(left, self.tracking)
+            right = None
+            if left is not None:
+                right = self._right_pose(left_rect, right_rect, left, rig.disparity_sign)
         self._right.update(right, self.tracking)
         self.last = (left, right)
         if left is None or right is None:
@@ -373,6 +386,36 @@ class BlazePoseEstimator(PoseEstimator):
         if self.joint_disparity == "match":
             rxy = match_joint_disparity(left_rect, right_rect, lxy, rxy, rig.disparity_sign)
         return ArmKeypoints(self.arm, lxy, rxy, lconf, rconf, source="blazepose", extra_left_px=_extra(left, self.arm))
+
+    def _both_concurrently(self, left_img: np.ndarray, right_img: np.ndarray, sign: int
+                           ) -> tuple[PoseLandmarks | None, PoseLandmarks | None] | None:
+        """Return (left, right) from concurrent landmark runs in the tracked ROIs, or None to go sequential.
+
+        None when not tracking both eyes or when the body's disparity cannot be measured with the
+        previous landmarks; (None, None) when the left pose was lost in its tracked ROI (the caller
+        re-detects). A right run that finds no pose is redone sequentially (``_right_pose``).
+        """
+        previous = self.last[0]
+        if not (self.concurrent_eyes and self.tracking and self.stereo_search == "roi"
+                and self._left.roi is not None and previous is not None):
+            return None
+        disparity = body_disparity(left_img, right_img, previous, sign, self.max_disparity_px)
+        if disparity is None:
+            return None
+        roi, contrast = self._left.roi, self._left.contrast
+        right_job = _eye_pool().submit(self.pose.process, right_img, roi.shifted(-sign * disparity), True, contrast)
+        try:
+            left = self.pose.process(left_img, roi, contrast=contrast)
+        finally:
+            right = right_job.result()
+        if left is None:
+            return None, None
+        self._tell_early(left, disparity, sign)
+        if right is None:
+            return left, self._right_pose(left_img, right_img, left, sign)
+        self.stats.searched += 1
+        self.stats.concurrent += 1
+        return left, right
 
     def _follow(self, image: np.ndarray, track: _Track) -> PoseLandmarks | None:
         """Return the pose in the tracked ROI, or from a fresh detection when there is none.
@@ -429,6 +472,12 @@ class BlazePoseEstimator(PoseEstimator):
 
 _NOSE = 0
 """BlazePose's nose landmark (the head of the stop gesture)."""
+
+
+def _eye_pool():
+    """Return the shared 1-thread pool of the right eye's concurrent landmark run."""
+    from .threads import shared_pool
+    return shared_pool("pose-right", 1)
 
 
 def _extra(pose: PoseLandmarks, arm: str, min_visibility: float = 0.5) -> dict:

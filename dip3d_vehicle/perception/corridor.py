@@ -131,7 +131,11 @@ class CorridorDetector:
         right_boxes = [(int(max(0, x0 - max_disp)), y0, x1, y1) if sign > 0 else (x0, y0, int(min(width, x1 + max_disp)), y1)
                        for x0, y0, x1, y1 in boxes]
         masks = [_polygon_mask(poly, box) for box in boxes]
-        right_job = shared_pool("sift", 2).submit(self._scan, right_rect, right_boxes, [None] * len(boxes), scale, 1)
+        # right image: only where a left corridor feature's match can lie (the wedge swept over the
+        # disparity range, widened): SIFT finds the same keypoints with a mask, and describes fewer
+        swept = _swept_polygon(poly, -sign * max_disp)
+        right_masks = [_polygon_mask(swept, box, grow_px=_RIGHT_MASK_GROW_PX) for box in right_boxes]
+        right_job = shared_pool("sift", 2).submit(self._scan, right_rect, right_boxes, right_masks, scale, 1)
         pl, dl = self._scan(left_rect, boxes, masks, scale, 0)
         pr, dr = right_job.result()
         qi, ti = match_row_band(pl, dl, pr, dr, self.lowe_ratio, self.row_tolerance_px,
@@ -186,12 +190,25 @@ def _pieces(poly: np.ndarray, n: int) -> list[np.ndarray]:
     return out
 
 
-def _polygon_mask(poly: np.ndarray, box: tuple[int, int, int, int]) -> np.ndarray:
-    """Return a uint8 mask of the polygon inside a box (255 inside)."""
+_RIGHT_MASK_GROW_PX = 8
+"""Margin of the right image's corridor mask beyond the swept wedge, pixels: more than the row
+tolerance plus the left mask's rounding at the scan's scale (a nearest-neighbour resize of ~0.4)."""
+
+
+def _polygon_mask(poly: np.ndarray, box: tuple[int, int, int, int], grow_px: int = 0) -> np.ndarray:
+    """Return a uint8 mask of the convex polygon inside a box (255 inside), grown by ``grow_px``."""
     x0, y0, x1, y1 = box
     mask = np.zeros((y1 - y0, x1 - x0), np.uint8)
     cv2.fillConvexPoly(mask, np.round(poly - [x0, y0]).astype(np.int32), 255)
+    if grow_px > 0:
+        mask = cv2.dilate(mask, cv2.getStructuringElement(cv2.MORPH_RECT, (2 * grow_px + 1, 2 * grow_px + 1)))
     return mask
+
+
+def _swept_polygon(poly: np.ndarray, shift_x_px: float) -> np.ndarray:
+    """Return the convex hull of a convex polygon and its copy moved by ``shift_x_px`` along the rows."""
+    both = np.vstack([poly, poly + [shift_x_px, 0.0]]).astype(np.float32)
+    return cv2.convexHull(both).reshape(-1, 2).astype(np.float64)
 
 
 def _clip_box(poly: np.ndarray, width: int, height: int, margin_px: int = 12) -> tuple[int, int, int, int] | None:

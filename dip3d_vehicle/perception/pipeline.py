@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import math
 import time
-from concurrent.futures import ThreadPoolExecutor
+from concurrent.futures import Future, ThreadPoolExecutor
 from dataclasses import dataclass, field
 from typing import Mapping
 
@@ -21,7 +21,7 @@ from .filters import candidate_keep, pose_rejection
 from .pose import PoseEstimator
 from .selection import PointingSelector, make_selector
 from .triangulation import normalize_q, triangulate
-from .threads import shared_pool
+from .threads import shared_pool, single_threaded_opencv
 from .values import JOINTS, Arm3D, ArmKeypoints, Candidates, Selection
 
 __all__ = ["Perception", "PerceptionResult", "make_pose_estimator"]
@@ -117,6 +117,7 @@ class Perception:
     def __init__(self, rig: StereoRig, params: Mapping, pose: PoseEstimator,
                  detector: CandidateDetector | None = None, selector: PointingSelector | None = None) -> None:
         self.rig, self.params, self.pose = rig, params, pose
+        single_threaded_opencv()
         self.detector = detector or SiftDetector.from_params(params)
         self.selector = selector or make_selector(params)
         self.corridor = CorridorDetector.from_params(params) if params.get("corridor.enabled") else None
@@ -126,6 +127,9 @@ class Perception:
         # without a previous arm, from the pose's early arm (left measured, right predicted).
         self.overlap = params.get("pose.backend") == "blazepose" and bool(params.get("blazepose.tracking"))
         self._last_arm: ArmKeypoints | None = None
+        # The corridor needs only the arm's LEFT joints, which the pose's early arm already has
+        # exactly: it starts then, while the right pose and the features run (see _start_corridor).
+        self._corridor_job: tuple[np.ndarray, np.ndarray, np.ndarray, Future] | None = None
 
     def process(self, left: np.ndarray, right: np.ndarray) -> PerceptionResult:
         """Run the whole core on an ORIGINAL (unrectified) pair."""
@@ -144,10 +148,17 @@ class Perception:
         tm = dict(timings or {})
         clock = _Stopwatch(tm)
         prefetch = getattr(self.detector, "prefetch", None) if self.overlap else None
-        if prefetch is not None and self._last_arm is not None:
+        features_started = prefetch is not None and self._last_arm is not None
+        if features_started:
             prefetch(left_rect, right_rect, self._last_arm)
-        elif prefetch is not None:  # no previous arm: start the features once the left pose is known
-            self.pose.set_early_arm_listener(lambda hint: prefetch(left_rect, right_rect, hint))
+
+        def on_early_arm(hint: ArmKeypoints) -> None:
+            if prefetch is not None and not features_started:  # no previous arm: features from the left pose
+                prefetch(left_rect, right_rect, hint)
+            self._start_corridor(left_rect, right_rect, hint)
+
+        if self.overlap:
+            self.pose.set_early_arm_listener(on_early_arm)
         with clock("pose"):
             try:
                 arm = self.pose.estimate(left_rect, right_rect, self.rig)
@@ -159,6 +170,7 @@ class Perception:
         if early.status != "ok":
             if prefetch is not None:
                 self.detector.cancel_prefetch()
+            self._take_corridor(left_rect, right_rect, None)
             return PerceptionResult(early.status, early.reason, early.arm, early.arm3d, timings_ms=tm)
         with clock("candidates"):
             cands = self.detector.detect(left_rect, right_rect, arm, self.rig)
@@ -175,7 +187,32 @@ class Perception:
         """Return ``cands`` plus the corridor's matches along where the arm points (if enabled)."""
         if self.corridor is None:
             return cands
-        return merge_candidates(cands, self.corridor.detect(left_rect, right_rect, arm, self.rig))
+        found = self._take_corridor(left_rect, right_rect, arm)
+        if found is None:
+            found = self.corridor.detect(left_rect, right_rect, arm, self.rig)
+        return merge_candidates(cands, found)
+
+    def _start_corridor(self, left_rect: np.ndarray, right_rect: np.ndarray, hint: ArmKeypoints) -> None:
+        """Start the corridor's detection in the background from an early arm (its left joints are final)."""
+        if self.corridor is None or self._corridor_job is not None:
+            return
+        job = shared_pool("corridor", 1).submit(self.corridor.detect, left_rect, right_rect, hint, self.rig)
+        self._corridor_job = (np.array(hint.left_px, copy=True), left_rect, right_rect, job)
+
+    def _take_corridor(self, left_rect: np.ndarray, right_rect: np.ndarray, arm: ArmKeypoints | None
+                       ) -> Candidates | None:
+        """Return the started corridor's result if it ran on these images with ``arm``'s left joints, else None.
+
+        Any started job is waited for (it holds the corridor's SIFT objects) and then forgotten.
+        """
+        pending, self._corridor_job = self._corridor_job, None
+        if pending is None:
+            return None
+        left_px, left_img, right_img, job = pending
+        found = job.result()
+        same = (arm is not None and left_img is left_rect and right_img is right_rect
+                and np.array_equal(left_px, arm.left_px))
+        return found if same else None
 
     def check_arm(self, arm: ArmKeypoints | None) -> PerceptionResult:
         """Triangulate and filter the arm; status "ok" when it may be used for selection."""
