@@ -361,7 +361,7 @@ def run_profile(profile: str, data: BenchFrames, overrides: Mapping[str, Any] | 
 
 def run_bench(data: BenchFrames, profiles: Sequence[str] = ("paper", "default", "fast"),
               latency_profile: str | Sequence[str] | None = ("fast",), latency_s: float = 10.0,
-              camera_hz: float = 15.0) -> dict:
+              camera_hz: float = 15.0, run_memory_profiles: Sequence[str] = ()) -> dict:
     """Run every profile on the same frames; add each one's fps ratio to ``paper``'s.
 
     ``latency_profile``: profile name(s) of the worker latency run(s) (``latency``: the first one,
@@ -378,6 +378,11 @@ def run_bench(data: BenchFrames, profiles: Sequence[str] = ("paper", "default", 
     runs = [latency_run(name, data, camera_hz=camera_hz, duration_s=latency_s) for name in names if name]
     if runs:
         out["latency"], out["latency_runs"] = runs[0], runs
+    if run_memory_profiles:  # the onboard loop's peak RSS, on the first sequence written as a paced folder
+        from .run_memory import run_memory
+
+        first = data.frames[:data.sequences[1]] if len(data.sequences) > 1 else data.frames
+        out["run_memory"] = run_memory(first, data.rig, run_memory_profiles, camera_hz)
     out["load_average_1min_at_end"] = round(_load(), 2)
     return out
 
@@ -514,6 +519,10 @@ def format_table(report: Mapping[str, Any]) -> str:
                   f"frames submitted {lat['frames_submitted']}, processed "
                   f"{lat['frames_processed']}, dropped {lat['frames_dropped']}, stale results {lat['stale_results']}; "
                   f"setpoints {lat['setpoints_sent']} ({lat['setpoints_without_result']} without a result)"]
+    mem = report.get("run_memory")
+    if mem:
+        lines += ["", f"dip3d-vehicle run on a folder ({mem['frames']} pairs at {mem['rate_hz']:g} Hz), peak RSS: " +
+                  ", ".join(f"{p} {r['peak_rss_mib']:.0f} MiB" for p, r in mem["profiles"].items())]
     follows = {n: r["follow"] for n, r in report["profiles"].items() if r.get("follow")}
     for name, counts in follows.items():
         lines.append(f"{name}: keyframes {counts['keyframes']}, followed frames {counts['followed']}, lost "

@@ -28,6 +28,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--calib", action="append", default=[], help="calibration file(s) for --source")
     parser.add_argument("--latency-profile", default="default,fast",
                         help="comma-separated profiles of the worker latency runs ('' to skip)")
+    parser.add_argument("--run-rss", default="default,fast",
+                        help="profiles whose 'dip3d-vehicle run' peak RSS is measured on the first sequence written "
+                             "as a folder ('' to skip)")
     parser.add_argument("--camera-hz", type=float, default=15.0,
                         help="camera rate of the worker latency runs, Hz (default 15)")
     parser.add_argument("--latency-s", type=float, default=10.0, help="duration of the latency run, seconds")
@@ -54,6 +57,7 @@ def run(args: argparse.Namespace) -> int:
     profiles = [p.strip() for p in args.profiles.split(",") if p.strip()]
     latency = [p.strip() for p in args.latency_profile.split(",") if p.strip()]
     report = run_bench(data, profiles, latency_profile=latency, latency_s=args.latency_s,
-                       camera_hz=args.camera_hz)
+                       camera_hz=args.camera_hz,
+                       run_memory_profiles=[p.strip() for p in args.run_rss.split(",") if p.strip()])
     print(json.dumps(report) if args.json else format_table(report))
     return 0

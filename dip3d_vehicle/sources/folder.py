@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import csv
 import re
+import time
 from pathlib import Path
 from typing import Any, Iterator, Mapping
 
@@ -41,6 +42,7 @@ class FolderSource(StereoSource):
         if not self.path.is_dir():
             raise SourceError(f"{self.path}: image folder not found")
         self.fps = option("folder_fps", options, params)
+        self.realtime = option("folder_realtime", options, params)
         self.pairs = _find_pairs(self.path)
         self.stamps = _read_stamps(self.path, [key for key, _, _ in self.pairs], self.fps)
 
@@ -50,10 +52,18 @@ class FolderSource(StereoSource):
 
     def describe(self) -> str:
         stamps = STAMPS_FILE if (self.path / STAMPS_FILE).is_file() else f"{self.fps:g} fps"
-        return f"folder {self.path} ({len(self.pairs)} pairs, stamps from {stamps})"
+        pace = ", delivered at their pace" if self.realtime else ""
+        return f"folder {self.path} ({len(self.pairs)} pairs, stamps from {stamps}{pace})"
 
     def _frames(self) -> Iterator[tuple[np.ndarray, np.ndarray, float, dict]]:
+        start = None
         for (key, left_path, right_path), stamp_s in zip(self.pairs, self.stamps):
+            if self.realtime:  # a camera's pace: pair k no earlier than its stamp after the first
+                now = time.monotonic()
+                start = start if start is not None else (now, stamp_s)
+                delay = start[0] + (stamp_s - start[1]) - now
+                if delay > 0:
+                    time.sleep(delay)
             left = _read_image(left_path)
             right = _read_image(right_path)
             yield left, right, stamp_s, {"name": key, "left_path": str(left_path),
