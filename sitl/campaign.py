@@ -1,8 +1,8 @@
 """Closed-loop campaigns: the mission over many seeds, and the safety figures over many trials.
 
     python -m sitl.campaign mission [--per-position 10] [--jobs 2] [--json FILE] [--scenario NAME]
-                                    [--positions A,B] [--set KEY=VALUE ...]
-    python -m sitl.campaign safety  [--trials 20] [--jobs 2] [--json FILE]
+                                    [--positions A,B] [--set KEY=VALUE ...] [--ray auto|local[:N]|ADDRESS]
+    python -m sitl.campaign safety  [--trials 20] [--jobs 2] [--json FILE] [--ray ...]
 
 ``mission``: ``paper_pool`` (or ``--scenario``) seeds 0, 1, 2, ... until ``--per-position`` seeds of
 each diver position (paper_pool: the paper's 2 and 3) have run; a run succeeds when the mission arrived at the placard the diver
@@ -33,7 +33,6 @@ import math
 import statistics
 import sys
 from collections import Counter
-from concurrent.futures import ProcessPoolExecutor
 from typing import Any
 
 __all__ = ["mission_campaign", "safety_campaign", "main"]
@@ -57,13 +56,11 @@ def _run_one(args: tuple) -> dict:
     return out
 
 
-def _pool_map(items: list, jobs: int):
-    if jobs <= 1:
-        for item in items:
-            yield _run_one(item)
-        return
-    with ProcessPoolExecutor(jobs) as pool:
-        yield from pool.map(_run_one, items)
+def _pool_map(items: list, jobs: int, ray: str | None = None):
+    """Yield ``_run_one`` of every item, in order: here, in ``jobs`` processes or on Ray (sitl/parallel.py)."""
+    from .parallel import map_runs
+
+    yield from map_runs(_run_one, items, jobs, ray)
 
 
 def _stats(values: list[float]) -> str:
@@ -77,10 +74,11 @@ def _stats(values: list[float]) -> str:
 
 def mission_campaign(per_position: int = 10, jobs: int = 2, max_seed: int = 200,
                      positions: tuple[str, ...] = ("2", "3"), scenario: str = "paper_pool",
-                     sets: dict | None = None) -> dict:
+                     sets: dict | None = None, ray: str | None = None) -> dict:
     """Run ``scenario`` until ``per_position`` seeds per diver position; return the summary.
 
     ``sets``: parameter overrides (``key: value``) for every run, e.g. ``sitl.pose_source``.
+    ``ray``: run on Ray (``auto``, ``local[:N]`` or an address; see sitl/parallel.py) instead of ``jobs`` processes.
     """
     from sitl.scenario import load_scenario
 
@@ -94,7 +92,7 @@ def mission_campaign(per_position: int = 10, jobs: int = 2, max_seed: int = 200,
     seeds = sorted(s for v in chosen.values() for s in v)
     runs = []
     print(f"mission campaign: {scenario} seeds {seeds} {sets or ''}", flush=True)
-    for r in _pool_map([(s, None, {}, scenario, dict(sets or {})) for s in seeds], jobs):
+    for r in _pool_map([(s, None, {}, scenario, dict(sets or {})) for s in seeds], jobs, ray):
         runs.append(r)
         print(f"seed {r['seed']:3d} pos {r['diver_position']} target {r['target_id']} chosen {r['chosen_id']} "
               f"outcome {r['outcome']} t_arrive {r['time_to_arrive_s']} "
@@ -131,7 +129,7 @@ def _fault(kind: str, seed: int) -> dict:
     return {"kind": kind, "state": "acknowledge", "after_s": 0.1 + (seed * 0.37) % 1.8, "run_after_s": 2.5}
 
 
-def safety_campaign(trials: int = 20, jobs: int = 2) -> dict:
+def safety_campaign(trials: int = 20, jobs: int = 2, ray: str | None = None) -> dict:
     """Run the safety trials; return the per-figure numbers."""
     half = max(trials // 2, 1)
     plan = []  # (figure, seed, fault, overrides)
@@ -146,7 +144,7 @@ def safety_campaign(trials: int = 20, jobs: int = 2) -> dict:
         plan.append(("stale_manual", s, _fault("perception_stall", s), SAFETY_OVERRIDES))
     results: dict[str, list[dict]] = {}
     items = [(seed, fault, over) for _, seed, fault, over in plan]
-    for (figure, seed, fault, _), r in zip(plan, _pool_map(items, jobs)):
+    for (figure, seed, fault, _), r in zip(plan, _pool_map(items, jobs, ray)):
         r["figure"] = figure
         results.setdefault(figure, []).append(r)
         sf = r.get("safety", {})
@@ -215,6 +213,8 @@ def _sets(items: list[str]) -> dict:
 
 def main(argv: list[str] | None = None) -> int:
     """Command line: ``mission`` or ``safety``."""
+    from .parallel import add_executor_arguments
+
     ap = argparse.ArgumentParser(prog="python -m sitl.campaign", description=__doc__.split("\n")[0])
     ap.add_argument("which", choices=["mission", "safety"])
     ap.add_argument("--per-position", type=int, default=10)
@@ -224,14 +224,14 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--set", dest="sets", action="append", default=[], metavar="KEY=VALUE",
                     help="parameter override for every run (mission; repeatable), e.g. sitl.pose_source=blazepose")
     ap.add_argument("--trials", type=int, default=20)
-    ap.add_argument("--jobs", type=int, default=2)
+    add_executor_arguments(ap, jobs_default=2)
     ap.add_argument("--json", metavar="FILE")
     args = ap.parse_args(argv)
     if args.which == "mission":
         out = mission_campaign(args.per_position, args.jobs, positions=_positions(args.scenario, args.positions),
-                               scenario=args.scenario, sets=_sets(args.sets))
+                               scenario=args.scenario, sets=_sets(args.sets), ray=args.ray)
     else:
-        out = safety_campaign(args.trials, args.jobs)
+        out = safety_campaign(args.trials, args.jobs, ray=args.ray)
     if args.json:
         with open(args.json, "w") as fh:
             json.dump(out, fh, indent=1, default=str)

@@ -426,22 +426,33 @@ def _t(line: str) -> float:
 
 
 def trial_campaign(trials: int = 20, faults: list[str] | None = None, params: Mapping[str, Any] | None = None,
-                   verbose: bool = True) -> dict:
-    """Run ``trials`` seeded trials of every fault; return per-fault summaries and the raw trials."""
+                   verbose: bool = True, jobs: int = 1, ray: str | None = None) -> dict:
+    """Run ``trials`` seeded trials of every fault; return per-fault summaries and the raw trials.
+
+    Runs here (``jobs`` 1), in ``jobs`` processes, or on Ray (``ray``: see sitl/parallel.py).
+    """
+    from .parallel import map_runs
+
     params = params if params is not None else load_params()
     out: dict[str, Any] = {"trials": {}, "summary": {}}
-    for fault in faults or list(BOUNDS_S):
-        rows = []
-        for seed in range(trials):
-            r = run_trial(fault, seed, params)
-            rows.append(r.__dict__)
-            if verbose:
-                print(f"{fault:22s} seed {seed:2d} sent {r.last_motion_sent_s} recv {r.last_motion_received_s} "
-                      f"bound {r.bound_s} ok {r.within_bound} why '{r.disengage_reason}' recovered {r.recovered} "
-                      f"({r.reengaged_after_s}) log {r.log_written}/{r.log_read} crash '{r.crashed[:80]}'", flush=True)
-        out["trials"][fault] = rows
-        out["summary"][fault] = _summarise(fault, rows)
+    names = faults or list(BOUNDS_S)
+    items = [(fault, seed, params) for fault in names for seed in range(trials)]
+    for (fault, seed, _), row in zip(items, map_runs(_trial_row, items, jobs, ray)):
+        out["trials"].setdefault(fault, []).append(row)
+        if verbose:
+            print(f"{fault:22s} seed {seed:2d} sent {row['last_motion_sent_s']} recv {row['last_motion_received_s']} "
+                  f"bound {row['bound_s']} ok {row['within_bound']} why '{row['disengage_reason']}' recovered "
+                  f"{row['recovered']} ({row['reengaged_after_s']}) log {row['log_written']}/{row['log_read']} "
+                  f"crash '{row['crashed'][:80]}'", flush=True)
+    for fault in names:
+        out["summary"][fault] = _summarise(fault, out["trials"].get(fault, []))
     return out
+
+
+def _trial_row(args: tuple) -> dict:
+    """One trial (in whatever process runs it) as a plain dict: (fault, seed, params)."""
+    fault, seed, params = args
+    return dict(run_trial(fault, seed, params).__dict__)
 
 
 def _summarise(fault: str, rows: list[dict]) -> dict:
@@ -687,24 +698,20 @@ def _mission_one(args: tuple) -> dict:
 
 
 def mission_campaign(seeds: int = 10, plan: str | Path = FAULT_DIR / "link_loss.yaml", jobs: int = 1,
-                     overrides: Mapping[str, Any] | None = None, verbose: bool = True, first_seed: int = 0) -> dict:
-    """Whole missions (paper_pool seeds first_seed.. +seeds) under a plan; arrivals and safety counters."""
+                     overrides: Mapping[str, Any] | None = None, verbose: bool = True, first_seed: int = 0,
+                     ray: str | None = None) -> dict:
+    """Whole missions (paper_pool seeds first_seed.. +seeds) under a plan; arrivals and safety counters.
+
+    Runs here (``jobs`` 1), in ``jobs`` processes, or on Ray (``ray``: see sitl/parallel.py).
+    """
+    from .parallel import map_runs
+
     items = [(s, str(plan), dict(overrides or {})) for s in range(first_seed, first_seed + seeds)]
     runs = []
-    if jobs > 1:
-        from concurrent.futures import ProcessPoolExecutor
-        with ProcessPoolExecutor(jobs) as pool:
-            it = pool.map(_mission_one, items)
-            for r in it:
-                runs.append(r)
-                if verbose:
-                    _print_mission(r)
-    else:
-        for item in items:
-            r = _mission_one(item)
-            runs.append(r)
-            if verbose:
-                _print_mission(r)
+    for r in map_runs(_mission_one, items, jobs, ray):
+        runs.append(r)
+        if verbose:
+            _print_mission(r)
     reached = sum(r.get("outcome") == "reached" for r in runs)
     outcomes: dict[str, int] = {}
     for r in runs:
@@ -758,15 +765,18 @@ def make_simulation(scenario: Any, params: Any, faults: str | Path | None, seed:
 # ====================================================================================== cli
 def main(argv: list[str] | None = None) -> int:
     """Command line: trials / missions / soak (see the module doc)."""
+    from .parallel import add_executor_arguments
+
     ap = argparse.ArgumentParser(prog="python -m sitl.fault_campaign", description=__doc__.split("\n")[0])
     sub = ap.add_subparsers(dest="what", required=True)
     t = sub.add_parser("trials")
     t.add_argument("--trials", type=int, default=20)
     t.add_argument("--fault", action="append", choices=list(BOUNDS_S))
+    add_executor_arguments(t)
     m = sub.add_parser("missions")
     m.add_argument("--seeds", type=int, default=10)
     m.add_argument("--plan", default=str(FAULT_DIR / "link_loss.yaml"))
-    m.add_argument("--jobs", type=int, default=1)
+    add_executor_arguments(m)
     m.add_argument("--first-seed", type=int, default=0)
     s = sub.add_parser("soak")
     s.add_argument("--hours", type=float, default=1.0)
@@ -775,12 +785,12 @@ def main(argv: list[str] | None = None) -> int:
         p.add_argument("--json", metavar="FILE")
     args = ap.parse_args(argv)
     if args.what == "trials":
-        out = trial_campaign(args.trials, args.fault)
+        out = trial_campaign(args.trials, args.fault, jobs=args.jobs, ray=args.ray)
         for k, v in out["summary"].items():
             print(k, json.dumps(v))
         print(markdown_table(out["summary"]))
     elif args.what == "missions":
-        out = mission_campaign(args.seeds, args.plan, args.jobs, first_seed=args.first_seed)
+        out = mission_campaign(args.seeds, args.plan, args.jobs, first_seed=args.first_seed, ray=args.ray)
         print(f"reached the pointed placard {out['reached']} / {out['seeds']} (outcomes {out['outcomes']}; "
               f"arrived anywhere {out['arrived']}), crashes {out['crashes']}")
     else:

@@ -1,6 +1,7 @@
 """Issue 12's closed-loop figures: "nothing there" (the shake, no motion toward a placard) and the stop gesture.
 
     python -m sitl.point_campaign nothing [--scenario nothing_there] [--seeds 0-9] [--jobs 1] [--json FILE]
+                                          (every campaign: [--ray auto|local[:N]|ADDRESS], sitl/parallel.py)
     python -m sitl.point_campaign stop    [--scenario paper_pool] [--trials 20] [--jobs 1] [--json FILE]
     python -m sitl.point_campaign mission --scenario FILE [--seeds 0-9] [--jobs 1] [--json FILE]
 
@@ -28,7 +29,6 @@ import json
 import math
 import statistics
 import sys
-from concurrent.futures import ProcessPoolExecutor
 
 import numpy as np
 
@@ -192,23 +192,23 @@ def _seeds(text: str) -> list[int]:
     return [int(s) for s in text.split(",")]
 
 
-def _map(fn, items: list, jobs: int):
-    if jobs <= 1:
-        for item in items:
-            yield fn(item)
-        return
-    with ProcessPoolExecutor(jobs) as pool:
-        yield from pool.map(fn, items)
+def _map(fn, items: list, jobs: int, ray: str | None = None):
+    """Yield ``fn`` of every item, in order: here, in ``jobs`` processes or on Ray (sitl/parallel.py)."""
+    from .parallel import map_runs
+
+    yield from map_runs(fn, items, jobs, ray)
 
 
 def main(argv: list[str] | None = None) -> int:
     """Run one campaign; print one line per run and a summary."""
+    from .parallel import add_executor_arguments
+
     ap = argparse.ArgumentParser(prog="python -m sitl.point_campaign")
     ap.add_argument("which", choices=["nothing", "stop", "mission"])
     ap.add_argument("--scenario")
     ap.add_argument("--seeds", default="0-9")
     ap.add_argument("--trials", type=int, default=20)
-    ap.add_argument("--jobs", type=int, default=1)
+    add_executor_arguments(ap)
     ap.add_argument("--json", metavar="FILE")
     a = ap.parse_args(argv)
     if a.which == "stop":
@@ -217,7 +217,7 @@ def main(argv: list[str] | None = None) -> int:
         fn = nothing_trial if a.which == "nothing" else mission_trial
         items = [(a.scenario or "nothing_there", s, {}) for s in _seeds(a.seeds)]
     rows = []
-    for row in _map(fn, items, a.jobs):
+    for row in _map(fn, items, a.jobs, a.ray):
         rows.append(row)
         print(json.dumps(row), flush=True)
     summary = _summary(a.which, rows)
