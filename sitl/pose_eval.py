@@ -19,6 +19,7 @@ Command line::
 
     python -m sitl.pose_eval [--ranges 1.5 2.5 3.5 4.5] [--facings 0 45 90 behind mission]
                              [--waters paper_pool murky] [--frames 6] [--json OUT.json]
+                             [--jobs N | --ray auto|local[:N]|ADDRESS]
 """
 
 from __future__ import annotations
@@ -130,25 +131,41 @@ def _summary(cell: dict) -> dict:
 
 
 def run(ranges: Sequence[float], facings: Sequence[str], waters: Sequence[str], frames: int,
-        seed: int = 0) -> list[dict]:
-    """Evaluate every (water, range, facing) cell; return one row per cell."""
+        seed: int = 0, jobs: int = 1, ray: str | None = None) -> list[dict]:
+    """Evaluate every (water, range, facing) cell; return one row per cell.
+
+    Cells are independent (BlazePose runs without tracking), so they run here (``jobs`` 1), in
+    ``jobs`` processes, or on Ray (``ray``: see sitl/parallel.py), with the same rows.
+    """
+    from .parallel import map_runs
+
+    items = [(water, rng, facing, frames, seed) for water in waters for rng in ranges for facing in facings]
+    rows = []
+    for row in map_runs(evaluate_row, items, jobs, ray):
+        rows.append(row)
+        print(format_table([row], header=False), flush=True)
+    return rows
+
+
+_POSE: list = []
+"""This process's BlazePose (loaded once per worker process)."""
+
+
+def evaluate_row(args: tuple) -> dict:
+    """One cell (water, range_m, facing, frames, seed) as a table row (in whatever process runs it)."""
     from dip3d_vehicle.config import load_params
     from dip3d_vehicle.perception.blazepose import BlazePose
 
+    water, rng, facing, frames, seed = args
     params = load_params()
-    pose = BlazePose.from_params(params)
-    rows = []
+    if not _POSE:
+        _POSE.append(BlazePose.from_params(params))
     with tempfile.TemporaryDirectory() as tmp:
-        for water in waters:
-            for rng in ranges:
-                for facing in facings:
-                    sc = cell_scenario(water, rng, facing, seed, Path(tmp))
-                    cell = evaluate_cell(sc, pose, frames, float(params["pose.min_confidence"]))
-                    row = {"water": water, "range_m": rng, "facing": facing}
-                    row.update({eye: _summary(cell[eye]) for eye in ("left", "right")})
-                    rows.append(row)
-                    print(format_table([row], header=False), flush=True)
-    return rows
+        sc = cell_scenario(water, rng, facing, seed, Path(tmp))
+        cell = evaluate_cell(sc, _POSE[0], frames, float(params["pose.min_confidence"]))
+    row = {"water": water, "range_m": rng, "facing": facing}
+    row.update({eye: _summary(cell[eye]) for eye in ("left", "right")})
+    return row
 
 
 def _fmt(v) -> str:
@@ -185,6 +202,8 @@ def _pooled(rows: list[dict]) -> str:
 
 def main(argv: list[str] | None = None) -> None:
     """Command line (see the module docstring)."""
+    from .parallel import add_executor_arguments
+
     ap = argparse.ArgumentParser(prog="python -m sitl.pose_eval")
     ap.add_argument("--ranges", type=float, nargs="+", default=[1.5, 2.5, 3.5, 4.5])
     ap.add_argument("--facings", nargs="+", default=["0", "45", "90", "behind", "mission"])
@@ -192,8 +211,9 @@ def main(argv: list[str] | None = None) -> None:
     ap.add_argument("--frames", type=int, default=6)
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--json", default=None, help="write the rows here")
+    add_executor_arguments(ap)
     args = ap.parse_args(argv)
-    rows = run(args.ranges, args.facings, args.waters, args.frames, args.seed)
+    rows = run(args.ranges, args.facings, args.waters, args.frames, args.seed, args.jobs, args.ray)
     print(format_table(rows))
     print(_pooled(rows))
     if args.json:
