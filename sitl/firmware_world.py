@@ -44,6 +44,7 @@ from .autopilot import Event
 from .dynamics import VehicleState
 from .scenario import Scenario
 from .simulation import Received, Router, SimPilot, Simulation, _Peer
+from .worker_perception import WorkerPerception
 
 __all__ = ["FirmwareVehicle", "FirmwareRouter", "FirmwareSimulation", "make_firmware_simulation"]
 
@@ -191,8 +192,11 @@ class FirmwareRouter(Router):
                 pass
 
 
-class FirmwareSimulation(Simulation):
+class FirmwareSimulation(WorkerPerception, Simulation):
     """One mission against the ArduSub SITL binary (same outcome, story, plots and log as Simulation).
+
+    The world follows the wall clock, so perception runs in the project's PerceptionWorker thread
+    (``sitl/worker_perception.py``): real latency instead of the lockstep's modelled one.
 
     Args:
         scenario: a resolved Scenario.

@@ -427,9 +427,7 @@ class Simulation:
                     obs = self._capture(now)
                     if obs is not None:
                         pending.append((now + latency, obs, self.last_frame.meta))
-                observation, obs_meta = None, None
-                while pending and pending[0][0] <= now + 1e-9:
-                    _, observation, obs_meta = pending.pop(0)
+                observation, obs_meta = self._deliver(now, pending)
                 rec = self.controller.tick(observation)
                 self.router.step()
                 self.ticks.append((now, rec.state, rec.engaged, rec.command is not None and not rec.command.is_neutral()))
@@ -456,6 +454,13 @@ class Simulation:
     def _step_dt(self, dt: float) -> float:
         """The clock's advance this step (lockstep: ``dt``; the firmware world follows the wall clock)."""
         return dt
+
+    def _deliver(self, now: float, pending: list) -> tuple[Any, dict | None]:
+        """Return this step's (observation, frame meta): the newest whose modelled latency has passed."""
+        observation, obs_meta = None, None
+        while pending and pending[0][0] <= now + 1e-9:
+            _, observation, obs_meta = pending.pop(0)
+        return observation, obs_meta
 
     def _capture(self, now: float):
         """Render the frame the camera sees now and process it (None while perception is stalled)."""
