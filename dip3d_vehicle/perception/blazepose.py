@@ -321,7 +321,7 @@ class BlazePoseEstimator(PoseEstimator):
 
     def __init__(self, pose: BlazePose, arm: str = "right", tracking: bool = True,
                  stereo_search: str = "roi", max_disparity_px: float = 400.0,
-                 joint_disparity: str = "landmarks", concurrent_eyes: bool = True) -> None:
+                 joint_disparity: str = "landmarks", concurrent_eyes: bool = False) -> None:
         """Wrap a ``BlazePose``; ``stereo_search`` is "roi" (search along rows) or "detect".
 
         ``joint_disparity``: "landmarks" = the right image's landmarks as BlazePose places them;
@@ -360,7 +360,7 @@ class BlazePoseEstimator(PoseEstimator):
                    stereo_search=params["blazepose.stereo_search"],
                    max_disparity_px=params["blazepose.max_disparity_px"],
                    joint_disparity=params.get("blazepose.joint_disparity", "landmarks"),
-                   concurrent_eyes=params.get("blazepose.concurrent_eyes", True))
+                   concurrent_eyes=params.get("blazepose.concurrent_eyes", False))
 
     def reset(self) -> None:
         """Forget both cameras' tracking state."""

@@ -204,6 +204,34 @@ def test_early_arm_listener_gets_the_left_arm_and_the_predicted_right_one(pose, 
     assert len(heard) == 1
 
 
+def test_concurrent_eyes_run_the_right_landmarks_beside_the_left_ones(pose, photos):
+    import threading
+
+    folder, _ = photos
+    left = cv2.imread(str(folder / "000000000785.jpg"))
+    right = np.ascontiguousarray(np.roll(left, -40, axis=1))
+    rig = _rig(left.shape[1], left.shape[0])
+    est = BlazePoseEstimator(pose, stereo_search="roi", tracking=True, concurrent_eyes=True)
+    assert est.estimate(left, right, rig) is not None and est.stats.concurrent == 0  # detection frame: sequential
+    threads = []
+    original = pose.landmarks
+
+    def spy(*args, **kwargs):
+        threads.append(threading.current_thread().name)
+        return original(*args, **kwargs)
+
+    pose.landmarks = spy
+    try:
+        calls = pose.detector_calls
+        moved_l, moved_r = np.roll(left, 6, axis=1), np.roll(right, 6, axis=1)
+        arm = est.estimate(moved_l, moved_r, rig)
+    finally:
+        del pose.landmarks
+    assert arm is not None and est.stats.concurrent == 1 and pose.detector_calls == calls
+    assert len(threads) == 2 and len(set(threads)) == 2, threads          # one landmark run per thread
+    assert np.allclose(arm.left_px - arm.right_px, [[40, 0]] * 3, atol=3.0)
+
+
 def test_stereo_detect_mode_also_finds_the_pair(pose, photos):
     folder, _ = photos
     left = cv2.imread(str(folder / "000000000785.jpg"))
