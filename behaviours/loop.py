@@ -17,6 +17,7 @@ after ``link.perception_timeout_s``).
 
 from __future__ import annotations
 
+import functools
 import math
 import threading
 import time
@@ -26,6 +27,7 @@ from typing import Any, Callable, Mapping
 import numpy as np
 
 from dip3d_vehicle.frames import FrameGuard, StereoFrame
+from dip3d_vehicle.perception.held_arm import decide_held
 from dip3d_vehicle.perception.pipeline import Perception
 from dip3d_vehicle.perception.triangulation import triangulate
 from dip3d_vehicle.perception.values import Candidates
@@ -41,11 +43,18 @@ __all__ = ["build_mission", "FrameProcessor", "Controller", "PerceptionWorker", 
 MAV_CMD_DO_SET_SERVO = 183
 
 
-def build_mission(params: Mapping[str, Any], rig, image_size: tuple[int, int], now_s: float = 0.0) -> Mission:
-    """Return a Mission (machine + blackboard + servo + tracker) for a rig and parameters."""
+def build_mission(params: Mapping[str, Any], rig, image_size: tuple[int, int], now_s: float = 0.0,
+                  perception: Perception | None = None) -> Mission:
+    """Return a Mission (machine + blackboard + servo + tracker) for a rig and parameters.
+
+    With ``perception`` (the core that makes the mission's results), the point's frames are decided
+    again with the held arm (``behaviour.fusion_arm_frames``).
+    """
     servo = PointServo.from_params(params, rig.focal_px, rig.principal_point_px, image_size)
     tracker = TargetTracker(TrackerConfig.from_params(params), rig)
     bb = Blackboard(BehaviourConfig.from_params(params), servo, tracker, now_s=now_s)
+    if perception is not None:
+        bb.decide_held = functools.partial(decide_held, perception)
     return Mission(bb)
 
 
