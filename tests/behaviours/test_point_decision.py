@@ -187,11 +187,24 @@ def test_stop_gesture_needs_both_wrists_above_the_head():
 
 
 def test_stop_gesture_watch_needs_an_unbroken_hold():
-    w, stop = StopGestureWatch(1.0), _arm(stop=True)[0]
+    w, stop, down = StopGestureWatch(1.0, gap_s=0.5), _arm(stop=True)[0], _arm()[0]
     assert not any(w.update(stop, 0.2 * k) for k in range(5))  # 0.0 .. 0.8 s
-    assert not w.update(None, 1.0)  # a frame without it restarts the hold
+    assert not w.update(down, 1.0)  # a pose showing the arms otherwise restarts the hold
     assert not any(w.update(stop, 1.2 + 0.2 * k) for k in range(5))
     assert w.update(stop, 2.2)
+
+
+def test_a_missed_pose_frame_does_not_break_the_stop_gesture_but_a_long_gap_does():
+    """A pose model misses single frames (the simulated one drops 2 %): the hold survives gaps up to
+    ``gap_s`` without a pose; longer silence restarts it."""
+    w, stop = StopGestureWatch(1.0, gap_s=0.5), _arm(stop=True)[0]
+    assert not any(w.update(stop, 0.2 * k) for k in range(4))  # 0.0 .. 0.6 s
+    assert not w.update(None, 0.8)  # missed frame
+    assert w.update(stop, 1.0)  # held 1.0 s from the first showing frame
+    w = StopGestureWatch(1.0, gap_s=0.5)
+    assert not any(w.update(stop, 0.2 * k) for k in range(4))
+    assert not any(w.update(None, 0.8 + 0.2 * k) for k in range(3))  # 0.8 .. 1.2 s: 0.6 s without a pose
+    assert not w.update(stop, 1.4) and w.since_s == pytest.approx(1.4)
 
 
 @pytest.mark.parametrize("state", [s for s in STATES if s not in ("idle", "stopped")])
