@@ -28,6 +28,7 @@ import numpy as np
 
 from dip3d_vehicle.frames import FrameGuard, StereoFrame
 from dip3d_vehicle.perception.held_arm import decide_held
+from dip3d_vehicle.perception.corridor import merge_candidates
 from dip3d_vehicle.perception.pipeline import Perception
 from dip3d_vehicle.perception.triangulation import triangulate
 from dip3d_vehicle.perception.values import Candidates
@@ -108,7 +109,11 @@ class FrameProcessor:
 
 
 def _detect_in(p: Perception, left: np.ndarray, right: np.ndarray, roi) -> Candidates:
-    """Full-frame (no arm mask) matched features, optionally only inside a region of interest."""
+    """Full-frame (no arm mask) matched features, optionally only inside a region of interest.
+
+    Inside a region of interest, the pointing corridor's detector (when on) adds its own matches:
+    an object it found (small, far, faint) is followed with the same kind of features.
+    """
     if roi is None:
         return p.detector.detect(left, right, None, p.rig)
     x0, y0, x1, y1 = roi
@@ -116,7 +121,10 @@ def _detect_in(p: Perception, left: np.ndarray, right: np.ndarray, roi) -> Candi
         return p.detector.detect(left, right, None, p.rig)
     cands = p.detector.detect(left[y0:y1, x0:x1], right[y0:y1, x0:x1], None, p.rig)
     shift = np.array([x0, y0], float)
-    return Candidates(cands.left_px + shift, cands.right_px + shift, cands.descriptors, cands.sizes_px)
+    cands = Candidates(cands.left_px + shift, cands.right_px + shift, cands.descriptors, cands.sizes_px)
+    if p.corridor is None:
+        return cands
+    return merge_candidates(cands, p.corridor.detect_box(left, right, roi, p.rig))
 
 
 @dataclass
