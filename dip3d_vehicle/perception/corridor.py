@@ -92,9 +92,10 @@ class CorridorDetector:
         self.image_scale, self.lowe_ratio = image_scale, lowe_ratio
         self.row_tolerance_px, self.min_disparity_px, self.min_depth_m = row_tolerance_px, min_disparity_px, min_depth_m
         self.max_area_px, self.tiles = max_area_px, tiles
-        # one CLAHE and one SIFT per image: the two images are scanned concurrently (neither is thread-safe)
-        self._clahes = tuple(cv2.createCLAHE(clipLimit=clahe_clip, tileGridSize=(8, 8)) for _ in range(2))
-        self._sifts = tuple(cv2.SIFT_create(contrastThreshold=contrast_threshold) for _ in range(2))
+        # one CLAHE and one SIFT per image and per use (0/1: the corridor, 2/3: the tracker's box): the two
+        # images are scanned concurrently and neither object is thread-safe
+        self._clahes = tuple(cv2.createCLAHE(clipLimit=clahe_clip, tileGridSize=(8, 8)) for _ in range(4))
+        self._sifts = tuple(cv2.SIFT_create(contrastThreshold=contrast_threshold) for _ in range(4))
         self.last_polygon: np.ndarray | None = None
         self.last_timings_ms: dict[str, float] = {}
 
@@ -139,11 +140,14 @@ class CorridorDetector:
         x0, y0, x1, y1 = (int(max(0, box[0])), int(max(0, box[1])), int(min(width, box[2])), int(min(height, box[3])))
         if x1 - x0 < 16 or y1 - y0 < 16:
             return Candidates.empty()
-        return self._match_boxes(left_rect, right_rect, [(x0, y0, x1, y1)], [None], rig)
+        return self._match_boxes(left_rect, right_rect, [(x0, y0, x1, y1)], [None], rig, first=2)
 
     def _match_boxes(self, left_rect: np.ndarray, right_rect: np.ndarray, boxes: list, masks: list,
-                     rig: StereoRig) -> Candidates:
-        """Scan left boxes (with masks) and their right boxes widened by the disparity range; match along rows."""
+                     rig: StereoRig, first: int = 0) -> Candidates:
+        """Scan left boxes (with masks) and their right boxes widened by the disparity range; match along rows.
+
+        ``first``: the left image's CLAHE / SIFT pair index (the right's is the next).
+        """
         width = left_rect.shape[1]
         max_disp = rig.focal_px * rig.baseline_m / self.min_depth_m
         sign = rig.disparity_sign
@@ -151,8 +155,9 @@ class CorridorDetector:
         scale = self.image_scale * min(1.0, math.sqrt(self.max_area_px / max(area, 1.0)))
         right_boxes = [(int(max(0, x0 - max_disp)), y0, x1, y1) if sign > 0 else (x0, y0, int(min(width, x1 + max_disp)), y1)
                        for x0, y0, x1, y1 in boxes]
-        right_job = shared_pool("sift", 2).submit(self._scan, right_rect, right_boxes, [None] * len(boxes), scale, 1)
-        pl, dl = self._scan(left_rect, boxes, masks, scale, 0)
+        right_job = shared_pool("sift", 2).submit(self._scan, right_rect, right_boxes, [None] * len(boxes), scale,
+                                                   first + 1)
+        pl, dl = self._scan(left_rect, boxes, masks, scale, first)
         pr, dr = right_job.result()
         qi, ti = match_row_band(pl, dl, pr, dr, self.lowe_ratio, self.row_tolerance_px,
                                 (self.min_disparity_px, max_disp), sign)
