@@ -8,7 +8,7 @@ lights, the chosen target). Values that cross into the loop are small frozen dat
 from __future__ import annotations
 
 from dataclasses import dataclass, field, fields
-from typing import Any, Mapping
+from typing import Any, Callable, Mapping
 
 import numpy as np
 
@@ -81,6 +81,7 @@ class BehaviourConfig:
     fusion_min_posterior: float = 0.9
     fusion_no_objects_none_p: float = 0.8
     fusion_max_effective_frames: float = 4.0
+    fusion_arm_frames: int = 4
     second_look_max_tries: int = 1
     second_look_step_m: float = 0.4
     second_look_speed_m_s: float = 0.15
@@ -92,6 +93,7 @@ class BehaviourConfig:
     stop_gesture: bool = True
     stop_gesture_hold_s: float = 1.0
     stop_gesture_margin_px: float = 5.0
+    stop_gesture_gap_s: float = 0.5
     standoff_m: float = 1.0
     statustext: bool = True
 
@@ -156,7 +158,8 @@ class Blackboard:
 
     Inputs (written by the loop each tick): ``now_s``, ``engaged``, ``hold_reason``,
     ``operator_enabled`` (the link's enable latch), ``observation`` (a new one this tick, else None),
-    ``perception_fresh``.
+    ``perception_fresh``. Set once: ``decide_held`` (perception's ``decide_held`` bound to the
+    perception core: a frame decided again with the point's held arm; None: frames as perceived).
     Outputs (written by the states): ``command`` (None = no motion), ``outbox``, ``chosen``,
     ``target``, ``errors``, ``arrived``; ``fusion`` (the current point's fused evidence) and
     ``decision`` (its latest fused decision); ``look_step`` / ``second_looks`` (the planned second
@@ -178,6 +181,7 @@ class Blackboard:
     chosen: Vote | None = None
     fusion: PointFusion | None = None
     decision: FusedDecision | None = None
+    decide_held: Callable | None = None
     look_step: LookStep | None = None
     second_looks: int = 0
     target: TrackedTarget | None = None

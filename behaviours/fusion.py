@@ -28,6 +28,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from dip3d_vehicle.perception.held_arm import HeldArm
 from dip3d_vehicle.perception.pipeline import PerceptionResult
 from dip3d_vehicle.perception.values import Candidates, ObjectCandidate
 
@@ -147,11 +148,13 @@ class PointFusion:
     none_log_sum: float = 0.0
     none_led: int = 0
     frames: list[FrameEvidence] = field(default_factory=list)
+    held_arm: HeldArm = field(default_factory=lambda: HeldArm(1))
 
     def reset(self) -> None:
         """Forget every frame (a new point, or a new viewpoint)."""
         self.hypotheses, self.none_log_sum, self.none_led, self.frames = [], 0.0, 0, []
         self.direction = None
+        self.held_arm.clear()
 
     @property
     def weight(self) -> float:
@@ -170,11 +173,12 @@ class PointFusion:
                 best, best_d = h, d
         return best
 
-    def add(self, result: PerceptionResult, stamp_s: float) -> FrameEvidence | None:
+    def add(self, result: PerceptionResult, stamp_s: float, arm_frames: int = 1) -> FrameEvidence | None:
         """Fuse one frame (with a raised arm); return its part, or None when the frame says nothing.
 
         Objects of one frame that fall on the same hypothesis (a placard split into two clusters)
-        add their probabilities: the frame's part for that hypothesis is their sum.
+        add their probabilities: the frame's part for that hypothesis is their sum. ``arm_frames``:
+        how many frames' arms the frame was decided with (the held arm's mean; for the story).
         """
         probs = frame_probabilities(result, self.no_objects_none_p)
         if probs is None:
@@ -207,7 +211,7 @@ class PointFusion:
             self.none_led += 1
         else:
             next(h for h in self.hypotheses if h.key == leader).led += 1
-        ev = FrameEvidence(stamp_s, result.status, part)
+        ev = FrameEvidence(stamp_s, result.status if arm_frames < 2 else f"{result.status}/arm{arm_frames}", part)
         self.frames.append(ev)
         return ev
 

@@ -18,6 +18,7 @@ after ``link.perception_timeout_s``).
 
 from __future__ import annotations
 
+import functools
 import math
 import time
 from dataclasses import dataclass, field
@@ -26,6 +27,8 @@ from typing import Any, Callable, Mapping
 import numpy as np
 
 from dip3d_vehicle.frames import StereoFrame
+from dip3d_vehicle.perception.corridor import merge_candidates
+from dip3d_vehicle.perception.held_arm import decide_held
 from dip3d_vehicle.perception.pipeline import Perception
 from dip3d_vehicle.perception.triangulation import triangulate
 from dip3d_vehicle.perception.values import Candidates
@@ -41,11 +44,18 @@ __all__ = ["build_mission", "FrameProcessor", "Controller", "MAV_CMD_DO_SET_SERV
 MAV_CMD_DO_SET_SERVO = 183
 
 
-def build_mission(params: Mapping[str, Any], rig, image_size: tuple[int, int], now_s: float = 0.0) -> Mission:
-    """Return a Mission (machine + blackboard + servo + tracker) for a rig and parameters."""
+def build_mission(params: Mapping[str, Any], rig, image_size: tuple[int, int], now_s: float = 0.0,
+                  perception: Perception | None = None) -> Mission:
+    """Return a Mission (machine + blackboard + servo + tracker) for a rig and parameters.
+
+    With ``perception`` (the core that makes the mission's results), the point's frames are decided
+    again with the held arm (``behaviour.fusion_arm_frames``).
+    """
     servo = PointServo.from_params(params, rig.focal_px, rig.principal_point_px, image_size)
     tracker = TargetTracker(TrackerConfig.from_params(params), rig)
     bb = Blackboard(BehaviourConfig.from_params(params), servo, tracker, now_s=now_s)
+    if perception is not None:
+        bb.decide_held = functools.partial(decide_held, perception)
     return Mission(bb)
 
 
@@ -99,7 +109,11 @@ class FrameProcessor:
 
 
 def _detect_in(p: Perception, left: np.ndarray, right: np.ndarray, roi) -> Candidates:
-    """Full-frame (no arm mask) matched features, optionally only inside a region of interest."""
+    """Full-frame (no arm mask) matched features, optionally only inside a region of interest.
+
+    Inside a region of interest, the pointing corridor's detector (when on) adds its own matches:
+    an object it found (small, far, faint) is followed with the same kind of features.
+    """
     if roi is None:
         return p.detector.detect(left, right, None, p.rig)
     x0, y0, x1, y1 = roi
@@ -107,7 +121,10 @@ def _detect_in(p: Perception, left: np.ndarray, right: np.ndarray, roi) -> Candi
         return p.detector.detect(left, right, None, p.rig)
     cands = p.detector.detect(left[y0:y1, x0:x1], right[y0:y1, x0:x1], None, p.rig)
     shift = np.array([x0, y0], float)
-    return Candidates(cands.left_px + shift, cands.right_px + shift, cands.descriptors, cands.sizes_px)
+    cands = Candidates(cands.left_px + shift, cands.right_px + shift, cands.descriptors, cands.sizes_px)
+    if p.corridor is None:
+        return cands
+    return merge_candidates(cands, p.corridor.detect_box(left, right, roi, p.rig))
 
 
 @dataclass

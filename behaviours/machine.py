@@ -108,7 +108,8 @@ class Mission:
                                queued=True, auto_transitions=False, send_event=True,
                                before_state_change="_leave", after_state_change="_arrive")
         self.behaviours["idle"].enter(bb)
-        self.stop_watch = StopGestureWatch(bb.config.stop_gesture_hold_s, bb.config.stop_gesture_margin_px)
+        self.stop_watch = StopGestureWatch(bb.config.stop_gesture_hold_s, bb.config.stop_gesture_margin_px,
+                                           bb.config.stop_gesture_gap_s)
 
     @property
     def needs(self) -> str:

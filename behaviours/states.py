@@ -13,11 +13,13 @@ from collections import deque
 
 import numpy as np
 
+from dip3d_vehicle.perception.held_arm import HeldArm
 from dip3d_vehicle.servo.command import VelocityCommand
 
 from .acknowledge import Acknowledgement
 from .blackboard import Blackboard
 from .evidence import VoteBox, angular_spread_rad, arm_direction, image_direction, is_raised
+
 from .fusion import NONE, FrameEvidence, FusedDecision, PointFusion
 from .second_look import LookStep, plan_second_look
 from .tracker import TrackedTarget
@@ -91,7 +93,15 @@ def _fuse(bb: Blackboard, result, direction) -> FrameEvidence | None:
         if angular_spread_rad([mean, direction]) * 2 > c.steady_angle_rad and fusion.frames:
             bb.say(f"pointing moved: fused evidence of {len(fusion.frames)} frames restarted")
             fusion.reset()
-    part = fusion.add(result, bb.observation.stamp_s)
+    arm_frames = 1
+    if bb.decide_held is not None and c.fusion_arm_frames > 1 and result.arm is not None \
+            and result.status in ("ok", "nothing_on_ray"):
+        if fusion.held_arm.arms.maxlen != c.fusion_arm_frames:
+            fusion.held_arm = HeldArm(c.fusion_arm_frames)
+        fusion.held_arm.add(result.arm)
+        arm_frames = len(fusion.held_arm)
+        result = bb.decide_held(fusion.held_arm.mean(), arm_frames, result)
+    part = fusion.add(result, bb.observation.stamp_s, arm_frames)
     if part is not None and direction is not None:
         fusion.direction = direction.copy() if fusion.direction is None else fusion.direction + direction
     return part

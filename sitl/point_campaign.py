@@ -12,7 +12,9 @@ autopilot received form the shake (first swing left, three reversals).
 
 ``stop``: per trial the diver performs the stop gesture at a seeded random time in [2, 16] s (so the
 mission is in a random state); the gesture counts as visible from the first frame whose TRUE keypoints
-show both wrists above the head, continuously. Measured: the time from "visible for
+show both wrists above the head, continuously. Trials whose gesture the camera never sees (the vehicle
+has turned toward a placard and the diver is out of view) are counted apart; with ``--visible N`` trials
+are drawn until N of them had the gesture in view (at most 3 x N trials). Measured: the time from "visible for
 ``behaviour.stop_gesture_hold_s``" to the last motion command the autopilot received (<= 0.5 s; 0 when
 it was not moving), and motion commands received after that (must be 0).
 
@@ -208,17 +210,24 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--scenario")
     ap.add_argument("--seeds", default="0-9")
     ap.add_argument("--trials", type=int, default=20)
+    ap.add_argument("--visible", type=int, default=0, metavar="N",
+                    help="stop: draw trials until N had the gesture in view (at most 3 x N; runs here, one by one)")
     add_executor_arguments(ap)
     ap.add_argument("--json", metavar="FILE")
     a = ap.parse_args(argv)
-    if a.which == "stop":
+    if a.which == "stop" and a.visible:
+        fn, items = stop_trial, _until_visible(a.scenario or "paper_pool", a.visible)
+    elif a.which == "stop":
         fn, items = stop_trial, [(a.scenario or "paper_pool", k, {}) for k in range(a.trials)]
     else:
         fn = nothing_trial if a.which == "nothing" else mission_trial
         items = [(a.scenario or "nothing_there", s, {}) for s in _seeds(a.seeds)]
     rows = []
-    for row in _map(fn, items, a.jobs, a.ray):
+    runs = (fn(item) for item in items) if isinstance(items, _until_visible) else _map(fn, items, a.jobs, a.ray)
+    for row in runs:
         rows.append(row)
+        if isinstance(items, _until_visible):
+            items.count(row)
         print(json.dumps(row), flush=True)
     summary = _summary(a.which, rows)
     print(json.dumps(summary), flush=True)
@@ -226,6 +235,22 @@ def main(argv: list[str] | None = None) -> int:
         with open(a.json, "w") as fh:
             json.dump({"rows": rows, "summary": summary}, fh, indent=1)
     return 0
+
+
+class _until_visible:
+    """Trial arguments for ``stop_trial`` until ``wanted`` trials saw the gesture (the caller reports each row)."""
+
+    def __init__(self, scenario: str, wanted: int) -> None:
+        self.scenario, self.wanted, self.seen, self.k = scenario, wanted, 0, 0
+
+    def __iter__(self):
+        while self.seen < self.wanted and self.k < 3 * self.wanted:
+            yield (self.scenario, self.k, {})
+            self.k += 1
+
+    def count(self, row: dict) -> None:
+        """Count a finished trial."""
+        self.seen += row.get("visible_from_s") is not None
 
 
 def _summary(which: str, rows: list[dict]) -> dict:

@@ -374,7 +374,7 @@ class Simulation:
         self.pose = SimPose(params)
         self.perception = Perception(self.rig, params, self.pose)
         self.processor = FrameProcessor(self.perception, lambda f: self.pose.provide(f.meta["keypoints"]))
-        self.mission = build_mission(params, self.rig, scenario.camera.image_size)
+        self.mission = build_mission(params, self.rig, scenario.camera.image_size, perception=self.perception)
         self.controller = Controller(self.link, self.mission, self.clock)
         self.trajectory: list[tuple] = []
         self.servo_log: list[tuple] = []

@@ -95,7 +95,7 @@ def run(args: argparse.Namespace) -> int:
         raise Dip3dError("--view / --foxglove / --video: need --out DIR (or --log FILE)")
     link = VehicleLink(params, clock, recorder=log)
     link.open()
-    mission = build_mission(params, rig, size, clock.now())
+    mission = build_mission(params, rig, size, clock.now(), perception)
     controller = Controller(link, mission, clock)
     processor = FrameProcessor(perception, before)
     if log is not None:

@@ -92,9 +92,10 @@ class CorridorDetector:
         self.image_scale, self.lowe_ratio = image_scale, lowe_ratio
         self.row_tolerance_px, self.min_disparity_px, self.min_depth_m = row_tolerance_px, min_disparity_px, min_depth_m
         self.max_area_px, self.tiles = max_area_px, tiles
-        # one CLAHE and one SIFT per image: the two images are scanned concurrently (neither is thread-safe)
-        self._clahes = tuple(cv2.createCLAHE(clipLimit=clahe_clip, tileGridSize=(8, 8)) for _ in range(2))
-        self._sifts = tuple(cv2.SIFT_create(contrastThreshold=contrast_threshold) for _ in range(2))
+        # one CLAHE and one SIFT per image and per use (0/1: the corridor, 2/3: the tracker's box): the two
+        # images are scanned concurrently and neither object is thread-safe
+        self._clahes = tuple(cv2.createCLAHE(clipLimit=clahe_clip, tileGridSize=(8, 8)) for _ in range(4))
+        self._sifts = tuple(cv2.SIFT_create(contrastThreshold=contrast_threshold) for _ in range(4))
         self.last_polygon: np.ndarray | None = None
         self.last_timings_ms: dict[str, float] = {}
 
@@ -121,26 +122,51 @@ class CorridorDetector:
         self.last_polygon = poly
         if poly is None:
             return Candidates.empty()
-        max_disp = rig.focal_px * rig.baseline_m / self.min_depth_m
-        sign = rig.disparity_sign
         boxes = [b for b in (_clip_box(piece, width, height) for piece in _pieces(poly, self.tiles)) if b is not None]
         if not boxes:
             return Candidates.empty()
+        out = self._match_boxes(left_rect, right_rect, boxes, [_polygon_mask(poly, box) for box in boxes], rig, poly=poly)
+        self.last_timings_ms = {"corridor": (time.perf_counter() - t0) * 1e3}
+        return out
+
+    def detect_box(self, left_rect: np.ndarray, right_rect: np.ndarray, box: tuple[int, int, int, int],
+                   rig: StereoRig) -> Candidates:
+        """Return the matches found with the corridor's settings inside one left-image box (x0, y0, x1, y1, px).
+
+        The tracker searches here for an object the corridor found: its features carry CLAHE-normalised
+        descriptors that the ordinary detector's would not match.
+        """
+        height, width = left_rect.shape[:2]
+        x0, y0, x1, y1 = (int(max(0, box[0])), int(max(0, box[1])), int(min(width, box[2])), int(min(height, box[3])))
+        if x1 - x0 < 16 or y1 - y0 < 16:
+            return Candidates.empty()
+        return self._match_boxes(left_rect, right_rect, [(x0, y0, x1, y1)], [None], rig, first=2)
+
+    def _match_boxes(self, left_rect: np.ndarray, right_rect: np.ndarray, boxes: list, masks: list,
+                     rig: StereoRig, first: int = 0, poly: np.ndarray | None = None) -> Candidates:
+        """Scan left boxes (with masks) and their right boxes widened by the disparity range; match along rows.
+
+        ``first``: the left image's CLAHE / SIFT pair index (the right's is the next). ``poly``: the
+        corridor's wedge (the right image is then scanned only where its matches can lie).
+        """
+        width = left_rect.shape[1]
+        max_disp = rig.focal_px * rig.baseline_m / self.min_depth_m
+        sign = rig.disparity_sign
         area = sum((x1 - x0) * (y1 - y0) for x0, y0, x1, y1 in boxes) * self.image_scale ** 2 * 4.0
         scale = self.image_scale * min(1.0, math.sqrt(self.max_area_px / max(area, 1.0)))
         right_boxes = [(int(max(0, x0 - max_disp)), y0, x1, y1) if sign > 0 else (x0, y0, int(min(width, x1 + max_disp)), y1)
                        for x0, y0, x1, y1 in boxes]
-        masks = [_polygon_mask(poly, box) for box in boxes]
         # right image: only where a left corridor feature's match can lie (the wedge swept over the
         # disparity range, widened): SIFT finds the same keypoints with a mask, and describes fewer
-        swept = _swept_polygon(poly, -sign * max_disp)
-        right_masks = [_polygon_mask(swept, box, grow_px=_RIGHT_MASK_GROW_PX) for box in right_boxes]
-        right_job = shared_pool("sift", 2).submit(self._scan, right_rect, right_boxes, right_masks, scale, 1)
-        pl, dl = self._scan(left_rect, boxes, masks, scale, 0)
+        right_masks = [None] * len(boxes)
+        if poly is not None:
+            swept = _swept_polygon(poly, -sign * max_disp)
+            right_masks = [_polygon_mask(swept, box, grow_px=_RIGHT_MASK_GROW_PX) for box in right_boxes]
+        right_job = shared_pool("sift", 2).submit(self._scan, right_rect, right_boxes, right_masks, scale, first + 1)
+        pl, dl = self._scan(left_rect, boxes, masks, scale, first)
         pr, dr = right_job.result()
         qi, ti = match_row_band(pl, dl, pr, dr, self.lowe_ratio, self.row_tolerance_px,
                                 (self.min_disparity_px, max_disp), sign)
-        self.last_timings_ms = {"corridor": (time.perf_counter() - t0) * 1e3}
         if len(qi) == 0:
             return Candidates.empty()
         return Candidates(pl[qi], pr[ti], dl[qi], np.zeros(len(qi)))

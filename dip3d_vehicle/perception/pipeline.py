@@ -246,12 +246,17 @@ class Perception:
                                     cands, xyz, sel, tm)
         return PerceptionResult("ok", "", arm, arm3d, cands, xyz, sel, tm)
 
-    def triangulate_arm(self, arm: ArmKeypoints) -> Arm3D:
-        """Triangulate the three joints; depth sigma from this frame's keypoint noise (metres)."""
+    def triangulate_arm(self, arm: ArmKeypoints, prior_sigma_px: float | None = None) -> Arm3D:
+        """Triangulate the three joints; depth sigma from this frame's keypoint noise (metres).
+
+        ``prior_sigma_px`` replaces ``selection.keypoint_sigma_px`` as the noise prior (an arm
+        averaged over frames has less).
+        """
         disp = arm.left_px[:, 0] - arm.right_px[:, 0]
         rows = (arm.left_px[:, 1] + arm.right_px[:, 1]) / 2.0
         xyz = triangulate(self.Q, np.c_[arm.left_px[:, 0], rows], disp)
-        noise_px = keypoint_noise_px(arm, self.params["selection.keypoint_sigma_px"])
+        prior = self.params["selection.keypoint_sigma_px"] if prior_sigma_px is None else prior_sigma_px
+        noise_px = keypoint_noise_px(arm, prior)
         sigma = self.rig.depth_sigma_m(np.abs(xyz[:, 2]), math.sqrt(2.0) * noise_px)
         return Arm3D(xyz, np.asarray(sigma, dtype=float))
 

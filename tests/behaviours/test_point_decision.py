@@ -187,11 +187,24 @@ def test_stop_gesture_needs_both_wrists_above_the_head():
 
 
 def test_stop_gesture_watch_needs_an_unbroken_hold():
-    w, stop = StopGestureWatch(1.0), _arm(stop=True)[0]
+    w, stop, down = StopGestureWatch(1.0, gap_s=0.5), _arm(stop=True)[0], _arm()[0]
     assert not any(w.update(stop, 0.2 * k) for k in range(5))  # 0.0 .. 0.8 s
-    assert not w.update(None, 1.0)  # a frame without it restarts the hold
+    assert not w.update(down, 1.0)  # a pose showing the arms otherwise restarts the hold
     assert not any(w.update(stop, 1.2 + 0.2 * k) for k in range(5))
     assert w.update(stop, 2.2)
+
+
+def test_a_missed_pose_frame_does_not_break_the_stop_gesture_but_a_long_gap_does():
+    """A pose model misses single frames (the simulated one drops 2 %): the hold survives gaps up to
+    ``gap_s`` without a pose; longer silence restarts it."""
+    w, stop = StopGestureWatch(1.0, gap_s=0.5), _arm(stop=True)[0]
+    assert not any(w.update(stop, 0.2 * k) for k in range(4))  # 0.0 .. 0.6 s
+    assert not w.update(None, 0.8)  # missed frame
+    assert w.update(stop, 1.0)  # held 1.0 s from the first showing frame
+    w = StopGestureWatch(1.0, gap_s=0.5)
+    assert not any(w.update(stop, 0.2 * k) for k in range(4))
+    assert not any(w.update(None, 0.8 + 0.2 * k) for k in range(3))  # 0.8 .. 1.2 s: 0.6 s without a pose
+    assert not w.update(stop, 1.4) and w.since_s == pytest.approx(1.4)
 
 
 @pytest.mark.parametrize("state", [s for s in STATES if s not in ("idle", "stopped")])
@@ -287,3 +300,22 @@ def test_a_placard_split_into_two_clusters_in_one_frame_is_one_hypothesis():
     part = f.add(_frame({(1.0, 0.0, 3.0): 0.4, (1.1, 0.05, 3.0): 0.3, (2.0, 0.0, 3.0): 0.2}, 0.1), 0.0)
     assert [h.key for h in f.hypotheses] == ["o1", "o2"] and part.probabilities["o1"] == pytest.approx(0.7)
     assert f.hypotheses[0].led == 1
+
+
+def test_each_frame_of_a_held_point_is_decided_again_with_the_held_arm(rig):
+    """With ``decide_held`` (the perception core's), every usable frame is re-decided with the mean arm
+    of the last ``behaviour.fusion_arm_frames`` frames, and the story says how many arms it used."""
+    m = _mission(rig, **{"behaviour.vote_frames": 4, "behaviour.min_votes": 3, "behaviour.fusion_arm_frames": 3})
+    calls = []
+
+    def sharper(arm, frames, result):
+        calls.append((frames, arm.source))
+        return _frame({1.0: 0.9, 2.0: 0.02}, 0.08)
+
+    m.bb.decide_held = sharper
+    _to(m, "select_target")
+    fired = _feed(m, [_frame({1.0: 0.55, 2.0: 0.1}, 0.35)] * 4 + [PerceptionResult("no_pose", "no person")])
+    assert [n for n, _ in calls] == [1, 2, 3, 3]  # a window of 3; the frame without an arm is not re-decided
+    assert all("mean of" in source for _, source in calls)
+    assert fired[3] == "winner"
+    assert any("ok/arm3 o1 0.90" in line for line in m.bb.story)

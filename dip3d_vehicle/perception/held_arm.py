@@ -1,0 +1,83 @@
+"""The arm of a held point: its keypoints averaged over the last frames, and a frame decided again with it.
+
+A diver holds a point for seconds while the vehicle holds still. The keypoints' noise (pose jitter)
+then averages down: the mean of ``n`` frames' keypoints has 1/sqrt(n) of one frame's noise, so the
+arm's stereo depths, and with them its tilt toward or away from the camera (the open-set
+selector's main doubt at 2 px), are known sqrt(n) times better. A systematic error (the diver's own
+pointing error, a pose model's bias) does not average down, which is why the window is short
+(``behaviour.fusion_arm_frames``) and the selector's pointing spread is unchanged.
+"""
+
+from __future__ import annotations
+
+import copy
+import dataclasses
+import math
+from collections import deque
+
+import numpy as np
+
+from .filters import pose_rejection
+from .pipeline import Perception, PerceptionResult
+from .selection import DefaultSelector
+from .values import ArmKeypoints
+
+__all__ = ["HeldArm", "decide_held"]
+
+
+class HeldArm:
+    """The last ``window`` arms of one held point (rectified px, both images) and their mean."""
+
+    def __init__(self, window: int) -> None:
+        self.arms: deque[ArmKeypoints] = deque(maxlen=max(int(window), 1))
+
+    def add(self, arm: ArmKeypoints) -> None:
+        """Add one frame's arm (same side as the previous ones, or the window restarts)."""
+        if self.arms and self.arms[-1].arm != arm.arm:
+            self.arms.clear()
+        self.arms.append(arm)
+
+    def clear(self) -> None:
+        """Forget every frame (a new point, or a new viewpoint)."""
+        self.arms.clear()
+
+    def __len__(self) -> int:
+        return len(self.arms)
+
+    def mean(self) -> ArmKeypoints | None:
+        """Return the mean arm of the window (pixels; confidences: the lowest seen), or None if empty."""
+        if not self.arms:
+            return None
+        a = list(self.arms)
+        return dataclasses.replace(
+            a[-1], left_px=np.mean([x.left_px for x in a], axis=0), right_px=np.mean([x.right_px for x in a], axis=0),
+            left_conf=np.min([x.left_conf for x in a], axis=0), right_conf=np.min([x.right_conf for x in a], axis=0),
+            source=f"{a[-1].source} (mean of {len(a)})")
+
+
+def decide_held(perception: Perception, arm: ArmKeypoints, frames: int, result: PerceptionResult) -> PerceptionResult:
+    """Return ``result``'s candidates decided again with ``arm``, the mean of ``frames`` frames' arms.
+
+    The keypoint noise (the prior ``selection.keypoint_sigma_px`` and the selector's own) is divided
+    by sqrt(frames). ``result`` is returned unchanged when it has no decision to redo (its arm failed
+    the checks, it found no object, or the selector is not the default one) or when the mean arm
+    fails the pose filters.
+    """
+    selector = perception.selector
+    if frames < 2 or result.status not in ("ok", "nothing_on_ray") or not isinstance(selector, DefaultSelector):
+        return result
+    scale = 1.0 / math.sqrt(frames)
+    params = perception.params
+    arm3d = perception.triangulate_arm(arm, params["selection.keypoint_sigma_px"] * scale)
+    if pose_rejection(arm3d.xyz_m, params["filters.max_joint_dz_m"], params["filters.min_depth_m"],
+                      arm3d.depth_sigma_m, params["filters.joint_dz_sigmas"]):
+        return result
+    held = copy.copy(selector)
+    held.model = dataclasses.replace(selector.model, keypoint_sigma_px=selector.model.keypoint_sigma_px * scale)
+    sel = held.select(arm, arm3d, result.candidates, result.candidates_xyz_m, perception.rig)
+    if sel.nothing_on_ray:
+        return PerceptionResult("nothing_on_ray", sel.reason, arm, arm3d, result.candidates,
+                                result.candidates_xyz_m, sel, result.timings_ms)
+    if sel.index is None:
+        return result
+    return PerceptionResult("ok", "", arm, arm3d, result.candidates, result.candidates_xyz_m, sel, result.timings_ms)
