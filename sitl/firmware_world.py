@@ -16,6 +16,12 @@ as the ground station, z = 250 until there), then disarms and returns to MANUAL;
 then hands over as in the built-in simulation. The dive costs ~8 s of wall time (arming is refused
 for the first ~4 s after boot).
 
+Position source: guided_velocity missions give the firmware's EKF the SITL's simulated external
+navigation (``EXTERNAL_NAV_PARAMS``: what a BlueROV2 flying GUIDED has, a DVL or acoustic positioning)
+instead of its simulated GPS, with which the EKF drove the vehicle around at up to 0.5 m/s under zero
+velocity setpoints (sitl/ardusub_sitl.py). manual_control missions keep the SITL's defaults (ALT_HOLD
+needs no position).
+
 Time: the firmware runs its own physics in wall-clock time x ``--speedup``; the loop's SimClock
 follows the wall clock x speedup (when the loop falls behind, the clock jumps to catch up, so the
 controller's timeouts stay in the firmware's time). Use a speedup below 1 when the machine cannot
@@ -39,7 +45,7 @@ from dip3d_vehicle.clock import SimClock
 from dip3d_vehicle.link import VehicleLink
 from dip3d_vehicle.link.state import mode_name
 
-from .ardusub_sitl import DEFAULT_HOME, ArdusubSitl, SitlOptions
+from .ardusub_sitl import DEFAULT_HOME, EXTERNAL_NAV_ARGS, EXTERNAL_NAV_PARAMS, ArdusubSitl, SitlOptions
 from .autopilot import Event
 from .dynamics import VehicleState
 from .scenario import Scenario
@@ -201,11 +207,14 @@ class FirmwareSimulation(Simulation):
         speedup: the firmware's ``--speedup`` (simulated seconds per wall second).
         instance: ``-I`` (distinct per concurrent run).
         fault: a failure to inject, or None.
+        external_nav: the EKF's position from the SITL's external navigation instead of its GPS
+            (None: for guided_velocity only).
         log: the run recorder (record/recorder.py) or None.
     """
 
     def __init__(self, scenario: Scenario, params: Mapping[str, Any], binary, speedup: float = 1.0,
-                 instance: int = 0, fault=None, stop_when_done: bool = True, log: Any = None) -> None:
+                 instance: int = 0, fault=None, stop_when_done: bool = True, log: Any = None,
+                 external_nav: bool | None = None) -> None:
         self.scenario, self.params, self.fault, self.speed = scenario, params, fault, speedup
         self.stop_when_done, self.log = stop_when_done, log
         self.clock = SimClock()
@@ -215,11 +224,14 @@ class FirmwareSimulation(Simulation):
         start = VehicleState(north_m=v.north_m, east_m=v.east_m, depth_m=v.depth_m, yaw_rad=v.yaw_rad)
         lat0, lon0 = DEFAULT_HOME[0], DEFAULT_HOME[1]
         home = (lat0, lon0, 0.0, math.degrees(v.yaw_rad) % 360.0)
-        self.sitl = ArdusubSitl(SitlOptions(binary, instance=instance, speedup=speedup, home=home))
+        guided = params["link.output_mode"] == "guided_velocity"
+        nav = guided if external_nav is None else external_nav
+        self.sitl = ArdusubSitl(SitlOptions(binary, instance=instance, speedup=speedup, home=home,
+                                            extra_params=EXTERNAL_NAV_PARAMS if nav else (),
+                                            extra_args=EXTERNAL_NAV_ARGS if nav else ()))
         self.received: list[Received] = []
         sock = self.sitl.start()
         try:
-            guided = params["link.output_mode"] == "guided_velocity"
             self.dive_s = pre_dive(sock, v.depth_m, timeout_s=120.0 if guided else 60.0, guided=guided)
             self.ap = FirmwareVehicle(self.sitl, start, lat0, lon0, self.clock)
             self.router = FirmwareRouter(sock, self.ap, self.received)
@@ -278,7 +290,8 @@ def pre_dive(sock: socket.socket, depth_m: float, timeout_s: float = 60.0, guide
     """As the pilot (255/190): arm in ALT_HOLD, dive to ``depth_m`` (SIM_STATE), hold, disarm, MANUAL.
 
     With ``guided``, instead of disarming it holds the depth in ALT_HOLD and asks for GUIDED every
-    second until the firmware accepts it (the 4.7 SITL: ~41 s after boot, when its EKF uses the GPS),
+    second until the firmware accepts it (the 4.7 SITL: ~41 s after boot when its EKF uses the simulated
+    GPS; ~5 s with external navigation),
     and leaves the vehicle armed in GUIDED: disarmed in MANUAL meanwhile, it would sink ~1 m.
 
     Returns:
