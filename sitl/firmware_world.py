@@ -292,7 +292,11 @@ def pre_dive(sock: socket.socket, depth_m: float, timeout_s: float = 60.0, guide
     With ``guided``, instead of disarming it holds the depth in ALT_HOLD and asks for GUIDED every
     second until the firmware accepts it (the 4.7 SITL: ~41 s after boot when its EKF uses the simulated
     GPS; ~5 s with external navigation),
-    and leaves the vehicle armed in GUIDED: disarmed in MANUAL meanwhile, it would sink ~1 m.
+    and leaves the vehicle armed in GUIDED: disarmed in MANUAL meanwhile, it would sink ~1 m. Entering
+    GUIDED from ALT_HOLD the firmware's depth controller first sinks the vehicle 0.3-1.5 m (seen: 0.9 ->
+    1.58 -> 1.23 m; in one mission 2.5 m), so it then brings it back as the pilot would, with GUIDED
+    vertical speed setpoints (0.8 /s x the depth error, at most 0.3 m/s) until it is within 0.05 m of
+    ``depth_m`` and still (|vd| < 0.03 m/s) for 1 s.
 
     Returns:
         The wall time it took, s.
@@ -305,8 +309,9 @@ def pre_dive(sock: socket.socket, depth_m: float, timeout_s: float = 60.0, guide
     m = MavSocket(sock)
     t0 = time.monotonic()
     m.command(m2.MAV_CMD_SET_MESSAGE_INTERVAL, float(m2.MAVLINK_MSG_ID_SIM_STATE), 1e6 / SIM_STATE_HZ)
-    state = {"armed": False, "mode": 19, "depth": 0.0}
+    state = {"armed": False, "mode": 19, "depth": 0.0, "vd": 0.0}
     phase, next_hb, next_mc, next_try, hold_until = "arm", 0.0, 0.0, 0.0, 0.0
+    still_since: float | None = None
     while phase != "done":
         now = time.monotonic()
         if now - t0 > timeout_s:
@@ -316,13 +321,17 @@ def pre_dive(sock: socket.socket, depth_m: float, timeout_s: float = 60.0, guide
             if msg.get_type() == "HEARTBEAT" and msg.get_srcSystem() == 1 and msg.type == m2.MAV_TYPE_SUBMARINE:
                 state["armed"], state["mode"] = bool(msg.base_mode & 128), msg.custom_mode
             elif msg.get_type() == "SIM_STATE":
-                state["depth"] = -float(msg.alt)
+                state["depth"], state["vd"] = -float(msg.alt), float(msg.vd)
         if now >= next_hb:
             m.heartbeat()
             next_hb = now + 1.0
         z = 250 if phase == "dive" else 500
         if now >= next_mc:
             m.send(m2.MAVLink_manual_control_message(1, 0, 0, z, 0, 0))
+            if phase == "settle":
+                vz = max(-0.3, min(0.3, 0.8 * (depth_m - state["depth"])))
+                m.send(m2.MAVLink_set_position_target_local_ned_message(
+                    0, 1, 1, m2.MAV_FRAME_BODY_NED, 1479, 0, 0, 0, 0, 0, vz, 0, 0, 0, 0, 0))
             next_mc = now + 0.05
         if phase == "arm":
             if state["armed"] and state["mode"] == 2:
@@ -341,9 +350,15 @@ def pre_dive(sock: socket.socket, depth_m: float, timeout_s: float = 60.0, guide
             phase, next_try = "guided", now
         elif phase == "guided":
             if state["mode"] == 4 and state["armed"]:
-                phase = "done"
+                phase = "settle"
             elif now >= next_try:
                 m.command(m2.MAV_CMD_DO_SET_MODE, 1.0, 4.0)
                 next_try = now + 1.0
+        elif phase == "settle":
+            if abs(depth_m - state["depth"]) < 0.05 and abs(state["vd"]) < 0.03:
+                still_since = now if still_since is None else still_since
+                phase = "done" if now - still_since >= 1.0 else phase
+            else:
+                still_since = None
         time.sleep(0.005)
     return time.monotonic() - t0

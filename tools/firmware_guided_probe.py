@@ -40,11 +40,12 @@ def main() -> int:
     ap.add_argument("--speedup", type=float, default=1.0)
     ap.add_argument("--instance", type=int, default=83)
     ap.add_argument("--out", default=None)
+    ap.add_argument("--pos-z", choices=["baro", "external_nav"], default="baro", help="EKF depth source with external_nav")
     a = ap.parse_args()
     nav = a.position == "external_nav"
     sitl = ArdusubSitl(SitlOptions(resolve_binary(a.binary), instance=a.instance, speedup=a.speedup,
                                    home=(DEFAULT_HOME[0], DEFAULT_HOME[1], 0.0, 0.0),
-                                   extra_params=EXTERNAL_NAV_PARAMS if nav else (),
+                                   extra_params=_nav_params(a.pos_z) if nav else (),
                                    extra_args=EXTERNAL_NAV_ARGS if nav else ()))
     sock = sitl.start()
     try:
@@ -54,6 +55,13 @@ def main() -> int:
     finally:
         sitl.stop()
     return 0
+
+
+def _nav_params(pos_z: str) -> tuple:
+    """EXTERNAL_NAV_PARAMS, with the EKF's depth from external navigation when ``pos_z`` says so."""
+    if pos_z == "baro":
+        return EXTERNAL_NAV_PARAMS
+    return tuple((k, 6 if k in ("EK3_SRC1_POSZ", "EK3_SRC1_VELZ") else v) for k, v in EXTERNAL_NAV_PARAMS)
 
 
 def _watch(m: MavSocket, a: argparse.Namespace) -> None:
@@ -88,7 +96,8 @@ def _row(t: float, last: dict) -> dict:
     """One line: truth beside the EKF's estimate."""
     s, lp, e, att = (last.get(k) for k in ("SIM_STATE", "LOCAL_POSITION_NED", "EKF_STATUS_REPORT", "ATTITUDE"))
     return {"t_s": round(t, 1), "true_vn_m_s": round(s.vn, 3), "true_ve_m_s": round(s.ve, 3),
-            "true_yaw_rad": round(s.yaw, 3),
+            "true_yaw_rad": round(s.yaw, 3), "true_depth_m": round(-s.alt, 3),
+            "ekf_z_m": None if lp is None else round(lp.z, 3),
             "ekf_vn_m_s": None if lp is None else round(lp.vx, 3), "ekf_ve_m_s": None if lp is None else round(lp.vy, 3),
             "ekf_yaw_rad": None if att is None else round(att.yaw, 3),
             "ekf_flags": None if e is None else e.flags,
