@@ -4,7 +4,8 @@ The firmware (``$DIP3D_ARDUSUB`` or ``../shared/ardusub-sitl/ardusub``) boots on
 ``-I``, the harness dives it to the start depth, the simulated pilot hands over in ALT_HOLD, and the
 controller (perception on the rendered stereo frames, the mission, the real VehicleLink) flies to the
 pointed placard through MANUAL_CONTROL while the camera is rendered from the firmware's own SIM_STATE.
-Wall time: ~9 s boot and dive + ~25 s of mission at speedup 1. Skipped with the reason when the binary
+Wall time: ~9 s boot and dive + ~40 s of mission (seed 0 arrived after 18.6 s of firmware time in the
+issue-13 campaign) at speedup 0.5, which keeps the loop on time on a loaded 2-core machine. Skipped with the reason when the binary
 is absent (a user's clone has no ../shared).
 
 Not checked here: the GUIDED conformance rows (velocity timeout, the yaw rate that never times out)
@@ -26,9 +27,9 @@ from sitl.simulation import sim_params
 
 from test_conformance import firmware_binary
 
-SEED = 3  # paper_pool seed 3: the diver points at placard 1
+SEED = 0  # paper_pool seed 0: the diver points at placard 2
 INSTANCE = 33
-SPEEDUP = 1.0
+SPEEDUP = 0.5
 
 
 def test_paper_pool_mission_arrives_on_the_firmware() -> None:
@@ -36,7 +37,7 @@ def test_paper_pool_mission_arrives_on_the_firmware() -> None:
     if binary is None:
         pytest.skip("no ArduSub SITL binary ($DIP3D_ARDUSUB or ../shared/ardusub-sitl/ardusub)")
     sc = load_scenario("paper_pool", SEED)
-    params = sim_params(load_params(), sc, **{"sitl.max_sim_time_s": 60.0})
+    params = sim_params(load_params(), sc, **{"sitl.max_sim_time_s": 50.0})
     sim = FirmwareSimulation(sc, params, binary, speedup=SPEEDUP, instance=INSTANCE)
     try:
         r = sim.run()
