@@ -4,14 +4,11 @@ The firmware (``$DIP3D_ARDUSUB`` or ``../shared/ardusub-sitl/ardusub``) boots on
 ``-I``, the harness dives it to the start depth, the simulated pilot hands over in ALT_HOLD, and the
 controller (perception on the rendered stereo frames, the mission, the real VehicleLink) flies to the
 pointed placard through MANUAL_CONTROL while the camera is rendered from the firmware's own SIM_STATE.
-Wall time: ~9 s boot and dive + ~40 s of mission (seed 0 arrived after 18.6 s of firmware time in the
-issue-13 campaign) at speedup 0.5, which keeps the loop on time on a loaded 2-core machine. Skipped with the reason when the binary
-is absent (a user's clone has no ../shared).
-
-Not checked here: the GUIDED conformance rows (velocity timeout, the yaw rate that never times out)
-on the firmware: its EKF accepts GUIDED only ~41 s after boot, which would more than double this
-test's wall time; they are checked on the built-in autopilot (tests/sitl/test_autopilot_protocol.py)
-and flown on the firmware by ``tools/firmware_missions.py --mode guided_velocity`` (docs/issue13).
+Wall time: ~9 s boot and dive + ~40 s of mission at speedup 0.5, which keeps the loop on time on a
+loaded 2-core machine (seed 0 arrived after 18.6 s of firmware time in the issue-13 campaign; once, at
+load average 23, not within 50 s, hence the campaign's 90 s limit). Skipped with the reason when the
+binary is absent (a user's clone has no ../shared). The GUIDED conformance rows on the firmware are in
+tests/sitl/test_firmware_guided.py (GUIDED with the SITL's simulated external navigation).
 """
 
 from __future__ import annotations
@@ -37,7 +34,7 @@ def test_paper_pool_mission_arrives_on_the_firmware() -> None:
     if binary is None:
         pytest.skip("no ArduSub SITL binary ($DIP3D_ARDUSUB or ../shared/ardusub-sitl/ardusub)")
     sc = load_scenario("paper_pool", SEED)
-    params = sim_params(load_params(), sc, **{"sitl.max_sim_time_s": 50.0})
+    params = sim_params(load_params(), sc, **{"sitl.max_sim_time_s": 90.0})  # as the campaign: arrivals took 19-52 s
     sim = FirmwareSimulation(sc, params, binary, speedup=SPEEDUP, instance=INSTANCE)
     try:
         r = sim.run()
