@@ -46,11 +46,11 @@ EXTERNAL_NAV_PARAMS = (("GPS1_TYPE", 0), ("VISO_TYPE", 1), ("SERIAL5_PROTOCOL", 
                        ("EK3_SRC1_VELXY", 6), ("EK3_SRC1_POSZ", 1), ("EK3_SRC1_VELZ", 0), ("EK3_SRC1_YAW", 6))
 """The EKF's horizontal position, velocity and yaw from external navigation, depth from the barometer,
 no GPS: how a BlueROV2 flies GUIDED (a DVL or an acoustic positioning system; GPS does not reach under
-water). With the SITL's simulated GPS instead, its EKF at 1 m depth was measured unusable for GUIDED
-(tools/firmware_guided_probe.py, docs/issue13/guided_probe.jsonl): GUIDED accepted only ~41 s after boot,
-then the EKF's heading 0.2-1 rad off the simulator's and its velocity +-0.4 m/s off while the vehicle was
-still (it diverged to 24 m/s once disarmed), so zero GUIDED velocity setpoints drove the real vehicle
-around at up to 0.5 m/s. With these the EKF tracked the truth within 0.005 m/s and 0.003 rad."""
+water). With the SITL's simulated GPS instead, its EKF at 1 m depth is not usable for GUIDED
+(tools/firmware_guided_probe.py, docs/issue13/guided_probe.jsonl): GUIDED accepted only ~45 s after boot,
+then the EKF's heading up to 1.26 rad and its velocity up to 0.50 m/s off the simulator's truth, and zero
+GUIDED velocity setpoints moved the vehicle at up to 0.32 m/s. With these the EKF tracked the truth
+within 0.006 m/s and 0.003 rad, the vehicle stayed still, and GUIDED was accepted right after the dive."""
 
 
 def resolve_binary(path: str | os.PathLike | None) -> Path:

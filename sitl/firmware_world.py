@@ -291,7 +291,7 @@ def pre_dive(sock: socket.socket, depth_m: float, timeout_s: float = 60.0, guide
 
     With ``guided``, instead of disarming it holds the depth in ALT_HOLD and asks for GUIDED every
     second until the firmware accepts it (the 4.7 SITL: ~41 s after boot when its EKF uses the simulated
-    GPS; ~5 s with external navigation),
+    GPS; right after the dive with external navigation),
     and leaves the vehicle armed in GUIDED: disarmed in MANUAL meanwhile, it would sink ~1 m. Entering
     GUIDED from ALT_HOLD the firmware's depth controller first sinks the vehicle 0.3-1.5 m (seen: 0.9 ->
     1.58 -> 1.23 m; in one mission 2.5 m), so it then brings it back as the pilot would, with GUIDED
