@@ -32,12 +32,25 @@ from pathlib import Path
 
 from dip3d_vehicle.errors import FirmwareError
 
-__all__ = ["ArdusubSitl", "SitlOptions", "resolve_binary", "ENV_VAR", "DEFAULT_HOME"]
+__all__ = ["ArdusubSitl", "SitlOptions", "resolve_binary", "ENV_VAR", "DEFAULT_HOME", "EXTERNAL_NAV_PARAMS",
+           "EXTERNAL_NAV_ARGS"]
 
 ENV_VAR = "DIP3D_ARDUSUB"
 """Environment variable naming the ArduSub SITL binary (tests and ``sitl --ardusub``)."""
 DEFAULT_HOME = (-27.563, -48.459, 0.0, 270.0)
 """lat, lng, alt m, heading deg: the home ArduSub's autotest and the shared README use."""
+EXTERNAL_NAV_ARGS = ("--serial5", "sim:vicon:")
+"""SERIAL5 is the SITL's simulated external navigation (an in-process device: no socket), which sends
+the simulator's pose and velocity as VISION_POSITION_ESTIMATE / VISION_SPEED_ESTIMATE."""
+EXTERNAL_NAV_PARAMS = (("GPS1_TYPE", 0), ("VISO_TYPE", 1), ("SERIAL5_PROTOCOL", 2), ("EK3_SRC1_POSXY", 6),
+                       ("EK3_SRC1_VELXY", 6), ("EK3_SRC1_POSZ", 1), ("EK3_SRC1_VELZ", 0), ("EK3_SRC1_YAW", 6))
+"""The EKF's horizontal position, velocity and yaw from external navigation, depth from the barometer,
+no GPS: how a BlueROV2 flies GUIDED (a DVL or an acoustic positioning system; GPS does not reach under
+water). With the SITL's simulated GPS instead, its EKF at 1 m depth is not usable for GUIDED
+(tools/firmware_guided_probe.py, docs/issue13/guided_probe.jsonl): GUIDED accepted only ~45 s after boot,
+then the EKF's heading up to 1.26 rad and its velocity up to 0.50 m/s off the simulator's truth, and zero
+GUIDED velocity setpoints moved the vehicle at up to 0.32 m/s. With these the EKF tracked the truth
+within 0.006 m/s and 0.003 rad, the vehicle stayed still, and GUIDED was accepted right after the dive."""
 
 
 def resolve_binary(path: str | os.PathLike | None) -> Path:
@@ -69,6 +82,7 @@ class SitlOptions:
         defaults: the parameter defaults file (default: ``sub.parm`` next to the binary).
         model: the SITL frame model.
         extra_params: parameters set at boot on top of the defaults file (written to an extra defaults file).
+        extra_args: more command-line arguments (e.g. ``EXTERNAL_NAV_ARGS``).
     """
 
     binary: Path
@@ -78,6 +92,7 @@ class SitlOptions:
     defaults: Path | None = None
     model: str = "vectored"
     extra_params: tuple[tuple[str, float], ...] = ()
+    extra_args: tuple[str, ...] = ()
 
 
 class ArdusubSitl:
@@ -112,7 +127,7 @@ class ArdusubSitl:
         return [str(o.binary), "--model", o.model, "--speedup", f"{o.speedup:g}", "--defaults", defaults,
                 "-I", str(o.instance), "--home", f"{lat},{lng},{alt:g},{hdg:g}", "-w",
                 "--serial0", f"tcpclient:127.0.0.1:{port}", "--serial1", "none", "--serial2", "none",
-                "--rc-in-port", str(rc_port)]
+                "--rc-in-port", str(rc_port), *o.extra_args]
 
     def start(self, connect_timeout_s: float = 10.0) -> socket.socket:
         """Start the process and wait for it to connect; return the MAVLink socket.

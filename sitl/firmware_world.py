@@ -16,6 +16,12 @@ as the ground station, z = 250 until there), then disarms and returns to MANUAL;
 then hands over as in the built-in simulation. The dive costs ~8 s of wall time (arming is refused
 for the first ~4 s after boot).
 
+Position source: guided_velocity missions give the firmware's EKF the SITL's simulated external
+navigation (``EXTERNAL_NAV_PARAMS``: what a BlueROV2 flying GUIDED has, a DVL or acoustic positioning)
+instead of its simulated GPS, with which the EKF drove the vehicle around at up to 0.5 m/s under zero
+velocity setpoints (sitl/ardusub_sitl.py). manual_control missions keep the SITL's defaults (ALT_HOLD
+needs no position).
+
 Time: the firmware runs its own physics in wall-clock time x ``--speedup``; the loop's SimClock
 follows the wall clock x speedup (when the loop falls behind, the clock jumps to catch up, so the
 controller's timeouts stay in the firmware's time). Use a speedup below 1 when the machine cannot
@@ -39,7 +45,7 @@ from dip3d_vehicle.clock import SimClock
 from dip3d_vehicle.link import VehicleLink
 from dip3d_vehicle.link.state import mode_name
 
-from .ardusub_sitl import DEFAULT_HOME, ArdusubSitl, SitlOptions
+from .ardusub_sitl import DEFAULT_HOME, EXTERNAL_NAV_ARGS, EXTERNAL_NAV_PARAMS, ArdusubSitl, SitlOptions
 from .autopilot import Event
 from .dynamics import VehicleState
 from .scenario import Scenario
@@ -205,11 +211,14 @@ class FirmwareSimulation(WorkerPerception, Simulation):
         speedup: the firmware's ``--speedup`` (simulated seconds per wall second).
         instance: ``-I`` (distinct per concurrent run).
         fault: a failure to inject, or None.
+        external_nav: the EKF's position from the SITL's external navigation instead of its GPS
+            (None: for guided_velocity only).
         log: the run recorder (record/recorder.py) or None.
     """
 
     def __init__(self, scenario: Scenario, params: Mapping[str, Any], binary, speedup: float = 1.0,
-                 instance: int = 0, fault=None, stop_when_done: bool = True, log: Any = None) -> None:
+                 instance: int = 0, fault=None, stop_when_done: bool = True, log: Any = None,
+                 external_nav: bool | None = None) -> None:
         self.scenario, self.params, self.fault, self.speed = scenario, params, fault, speedup
         self.stop_when_done, self.log = stop_when_done, log
         self.clock = SimClock()
@@ -219,11 +228,14 @@ class FirmwareSimulation(WorkerPerception, Simulation):
         start = VehicleState(north_m=v.north_m, east_m=v.east_m, depth_m=v.depth_m, yaw_rad=v.yaw_rad)
         lat0, lon0 = DEFAULT_HOME[0], DEFAULT_HOME[1]
         home = (lat0, lon0, 0.0, math.degrees(v.yaw_rad) % 360.0)
-        self.sitl = ArdusubSitl(SitlOptions(binary, instance=instance, speedup=speedup, home=home))
+        guided = params["link.output_mode"] == "guided_velocity"
+        nav = guided if external_nav is None else external_nav
+        self.sitl = ArdusubSitl(SitlOptions(binary, instance=instance, speedup=speedup, home=home,
+                                            extra_params=EXTERNAL_NAV_PARAMS if nav else (),
+                                            extra_args=EXTERNAL_NAV_ARGS if nav else ()))
         self.received: list[Received] = []
         sock = self.sitl.start()
         try:
-            guided = params["link.output_mode"] == "guided_velocity"
             self.dive_s = pre_dive(sock, v.depth_m, timeout_s=120.0 if guided else 60.0, guided=guided)
             self.ap = FirmwareVehicle(self.sitl, start, lat0, lon0, self.clock)
             self.router = FirmwareRouter(sock, self.ap, self.received)
@@ -282,8 +294,13 @@ def pre_dive(sock: socket.socket, depth_m: float, timeout_s: float = 60.0, guide
     """As the pilot (255/190): arm in ALT_HOLD, dive to ``depth_m`` (SIM_STATE), hold, disarm, MANUAL.
 
     With ``guided``, instead of disarming it holds the depth in ALT_HOLD and asks for GUIDED every
-    second until the firmware accepts it (the 4.7 SITL: ~41 s after boot, when its EKF uses the GPS),
-    and leaves the vehicle armed in GUIDED: disarmed in MANUAL meanwhile, it would sink ~1 m.
+    second until the firmware accepts it (the 4.7 SITL: ~41 s after boot when its EKF uses the simulated
+    GPS; right after the dive with external navigation),
+    and leaves the vehicle armed in GUIDED: disarmed in MANUAL meanwhile, it would sink ~1 m. Entering
+    GUIDED from ALT_HOLD the firmware's depth controller first sinks the vehicle 0.3-1.5 m (seen: 0.9 ->
+    1.58 -> 1.23 m; in one mission 2.5 m), so it then brings it back as the pilot would, with GUIDED
+    vertical speed setpoints (0.8 /s x the depth error, at most 0.3 m/s) until it is within 0.05 m of
+    ``depth_m`` and still (|vd| < 0.03 m/s) for 1 s.
 
     Returns:
         The wall time it took, s.
@@ -296,8 +313,9 @@ def pre_dive(sock: socket.socket, depth_m: float, timeout_s: float = 60.0, guide
     m = MavSocket(sock)
     t0 = time.monotonic()
     m.command(m2.MAV_CMD_SET_MESSAGE_INTERVAL, float(m2.MAVLINK_MSG_ID_SIM_STATE), 1e6 / SIM_STATE_HZ)
-    state = {"armed": False, "mode": 19, "depth": 0.0}
+    state = {"armed": False, "mode": 19, "depth": 0.0, "vd": 0.0}
     phase, next_hb, next_mc, next_try, hold_until = "arm", 0.0, 0.0, 0.0, 0.0
+    still_since: float | None = None
     while phase != "done":
         now = time.monotonic()
         if now - t0 > timeout_s:
@@ -307,13 +325,17 @@ def pre_dive(sock: socket.socket, depth_m: float, timeout_s: float = 60.0, guide
             if msg.get_type() == "HEARTBEAT" and msg.get_srcSystem() == 1 and msg.type == m2.MAV_TYPE_SUBMARINE:
                 state["armed"], state["mode"] = bool(msg.base_mode & 128), msg.custom_mode
             elif msg.get_type() == "SIM_STATE":
-                state["depth"] = -float(msg.alt)
+                state["depth"], state["vd"] = -float(msg.alt), float(msg.vd)
         if now >= next_hb:
             m.heartbeat()
             next_hb = now + 1.0
         z = 250 if phase == "dive" else 500
         if now >= next_mc:
             m.send(m2.MAVLink_manual_control_message(1, 0, 0, z, 0, 0))
+            if phase == "settle":
+                vz = max(-0.3, min(0.3, 0.8 * (depth_m - state["depth"])))
+                m.send(m2.MAVLink_set_position_target_local_ned_message(
+                    0, 1, 1, m2.MAV_FRAME_BODY_NED, 1479, 0, 0, 0, 0, 0, vz, 0, 0, 0, 0, 0))
             next_mc = now + 0.05
         if phase == "arm":
             if state["armed"] and state["mode"] == 2:
@@ -332,9 +354,15 @@ def pre_dive(sock: socket.socket, depth_m: float, timeout_s: float = 60.0, guide
             phase, next_try = "guided", now
         elif phase == "guided":
             if state["mode"] == 4 and state["armed"]:
-                phase = "done"
+                phase = "settle"
             elif now >= next_try:
                 m.command(m2.MAV_CMD_DO_SET_MODE, 1.0, 4.0)
                 next_try = now + 1.0
+        elif phase == "settle":
+            if abs(depth_m - state["depth"]) < 0.05 and abs(state["vd"]) < 0.03:
+                still_since = now if still_since is None else still_since
+                phase = "done" if now - still_since >= 1.0 else phase
+            else:
+                still_since = None
         time.sleep(0.005)
     return time.monotonic() - t0

@@ -42,6 +42,9 @@ PWM_SPAN_US = 400.0  # 1100..1900
 # yaw nothing up to 23 us (r = 115), then 0.044 / 0.097 / 0.154 rad/s at 26 / 34 / 42 us; throttle nothing
 # up to 40 us (THR_DZ; z = 400), then 0.133 / 0.192 / 0.243 / 0.291 m/s down at 60 / 72 / 80 / 88 us
 # (the up side mirrored: ArduSub will not climb above its boot depth, so it was not measured).
+# Forward too (tools/measure_ardusub_sticks.py --axis x): nothing up to 24 us (x = 120), then 0.115 / 0.144 /
+# 0.164 / 0.206 / 0.258 m/s at 26 / 28 / 32 / 40 / 50 us: the thrust starts at the dead zone's edge (no ramp).
+FORWARD_DEAD_ZONE_US = 25
 _YAW_TABLE_US = tuple([0.0, 23.0, 26.0, 34.2, 42.0, 50.0, 100.0, 200.0, 400.0])
 _YAW_TABLE_RAD_S = tuple([0.0, 0.0, 0.0435, 0.097, 0.154, 0.214, 0.593, 1.319, 2.771])  # 400 us: extrapolated
 _CLIMB_UP_US = tuple([0.0, 40.0, 60.0, 72.0, 80.0, 88.0, 100.0, 200.0, 400.0])
@@ -162,7 +165,8 @@ class Controller:
             return Forces()
         if mode == MODE_NUMBERS["GUIDED"]:
             return self._guided(guided, state, now_s, velocity_timeout_s)
-        fx = self._open_loop(self.vehicle.surge.max_thrust, pilot.effort("forward"))
+        forward = 0.0 if pilot.is_neutral("forward", FORWARD_DEAD_ZONE_US) else pilot.effort("forward")
+        fx = self._open_loop(self.vehicle.surge.max_thrust, forward)
         fy = self._open_loop(self.vehicle.sway.max_thrust, pilot.effort("lateral"))
         if mode == MODE_NUMBERS["MANUAL"]:
             self.depth_hold_m = None

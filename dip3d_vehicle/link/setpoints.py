@@ -25,10 +25,25 @@ At the points both versions were measured (250, 500) they agree within 3 %, so t
 same joystick/RC code) is used for both: ``YAW_TABLES["4.5"]`` is the 4.5 measurements with the 4.7
 low end, ``YAW_TABLES["4.7"]`` the 4.7 measurements (its r = 1000 point is 4.5's). The link picks
 the table by the firmware's GCS-sysid parameter name (MAV_GCS_SYSID: 4.7+, SYSID_MYGCS: 4.5).
+
+Forward has the same kind of dead zone, measured on the 4.7 SITL (``tools/measure_ardusub_sticks.py
+--axis x``, SIM_STATE body speed after 5 s, ALT_HOLD; docs/issue13/stick_measurements.jsonl): x <= 120
+gives no thrust (the 0.01-0.03 m/s read there were the previous step's coasting: x = -120 read +0.026),
+x = 130 / 140 / 150 / 160 / 200 / 250 / 388 give 0.115 / 0.144 / 0.154 / 0.164 / 0.206 / 0.258 / 0.398
+m/s, symmetric (x = -160 / -250: -0.164 / -0.258). The old table, a straight line from 0 to (0.258, 250),
+sent x = 97 for 0.1 m/s: nothing moved, and on the firmware the servo sat 0.15-0.18 m short of the
+stand-off for 10 s asking 0.10 m/s (paper_pool seed 0). At 250 the two versions agree (0.258), so the
+table is shared.
+
+Speeds below an axis' first moving point cannot be held by any steady stick: ``StickDither`` (used by
+the link) sends them as pulses of that point's stick whose duty gives the asked mean speed (first-order
+sigma-delta at the setpoint rate, 20 Hz, well inside the vehicle's 0.36-0.6 s response), as a pilot
+taps the stick to creep. ``manual_control_from_velocity`` itself stays the steady map.
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -38,12 +53,14 @@ from ..servo.command import VelocityCommand
 __all__ = [
     "ManualControl", "GuidedVelocity", "NEUTRAL_STICKS", "ZERO_GUIDED",
     "SURGE_TABLE", "SWAY_TABLE", "YAW_TABLE", "YAW_TABLES", "HEAVE_TABLE", "FIRMWARES",
-    "manual_control_from_velocity", "guided_from_velocity",
+    "manual_control_from_velocity", "guided_from_velocity", "StickDither", "first_moving_point",
     "MAV_FRAME_BODY_NED", "TYPE_MASK_VELOCITY_YAW_RATE",
 ]
 
 # (speed, stick) pairs measured in ALT_HOLD; stick x/y/r in -1000..1000.
-SURGE_TABLE: tuple[tuple[float, float], ...] = ((0.0, 0.0), (0.258, 250.0), (0.516, 500.0), (1.032, 1000.0))
+SURGE_TABLE: tuple[tuple[float, float], ...] = (
+    (0.0, 0.0), (0.002, 120.0), (0.115, 130.0), (0.144, 140.0), (0.164, 160.0), (0.206, 200.0), (0.258, 250.0),
+    (0.398, 388.0), (0.516, 500.0), (1.032, 1000.0))
 """Forward x: true body speed m/s -> MANUAL_CONTROL.x."""
 SWAY_TABLE: tuple[tuple[float, float], ...] = ((0.0, 0.0), (0.455, 500.0), (0.911, 1000.0))
 """Lateral y: true body speed m/s (right positive) -> MANUAL_CONTROL.y."""
@@ -166,3 +183,75 @@ def guided_from_velocity(cmd: VelocityCommand, max_speed_m_s: float = 2.0,
     return GuidedVelocity(vx_m_s=lim(cmd.surge_m_s, max_speed_m_s), vy_m_s=lim(cmd.sway_m_s, max_speed_m_s),
                           vz_m_s=lim(cmd.heave_m_s, max_speed_m_s),
                           yaw_rate_rad_s=lim(cmd.yaw_rate_rad_s, max_yaw_rate_rad_s))
+
+
+def first_moving_point(table: tuple[tuple[float, float], ...]) -> tuple[float, float]:
+    """Return the (speed, stick) of a stick table's first point beyond its dead zone (speed >= 0.01)."""
+    return next(p for p in table if p[0] >= 0.01)
+
+
+_HEAVE_FIRST_DOWN = (0.133, 350.0)  # the throttle's first moving points (THR_DZ: z 400..600 does nothing)
+_HEAVE_FIRST_UP = (-0.133, 650.0)
+
+
+class StickDither:
+    """Speeds below an axis' dead zone as pulses of its first moving stick (surge, yaw and heave).
+
+    Per axis a first-order sigma-delta: each call adds ``|v| / v_first`` to an accumulator and sends
+    the first moving stick (with the command's sign) while it reaches 0.5, taking 1 off; otherwise
+    that axis is neutral. The mean speed then follows the command. At or above ``v_first`` the steady
+    map is used. A zero axis (and any sign change) clears that axis' accumulator, and ``reset()``
+    clears all of them: an all-zero command is always exactly ``NEUTRAL_STICKS``.
+
+    Args:
+        firmware: "4.5" or "4.7": which yaw table (see ``YAW_TABLES``).
+    """
+
+    def __init__(self, firmware: str = "4.5") -> None:
+        self.firmware = firmware
+        self._acc = {"surge": 0.0, "yaw": 0.0, "heave": 0.0}
+        self._sign = {"surge": 0.0, "yaw": 0.0, "heave": 0.0}
+
+    def reset(self) -> None:
+        """Forget the accumulated remainders (on every stop and disengage)."""
+        self._acc = {k: 0.0 for k in self._acc}
+        self._sign = {k: 0.0 for k in self._sign}
+
+    def _pulse(self, axis: str, value: float, first: float) -> float:
+        """Return +-1.0 (pulse) or 0.0 for ``value`` of magnitude below ``first``, updating the accumulator."""
+        acc = self._acc[axis]
+        sign = math.copysign(1.0, value) if value != 0.0 else 0.0
+        if sign != self._sign[axis]:
+            acc = 0.0
+        self._sign[axis] = sign
+        acc += value / first
+        out = 0.0
+        if acc >= 0.5:
+            out, acc = 1.0, acc - 1.0
+        elif acc <= -0.5:
+            out, acc = -1.0, acc + 1.0
+        self._acc[axis] = acc
+        return out
+
+    def sticks(self, cmd: VelocityCommand) -> ManualControl:
+        """Return this setpoint tick's sticks for ``cmd`` (call once per sent MANUAL_CONTROL)."""
+        steady = manual_control_from_velocity(cmd, self.firmware)
+        x, r, z = steady.x, steady.r, steady.z
+        surge, yaw, heave = _finite(cmd.surge_m_s), _finite(cmd.yaw_rate_rad_s), _finite(cmd.heave_m_s)
+        v_x, stick_x = first_moving_point(SURGE_TABLE)
+        if abs(surge) < v_x:
+            x = int(round(self._pulse("surge", surge, v_x) * stick_x))
+        else:
+            self._acc["surge"], self._sign["surge"] = 0.0, 0.0
+        v_r, stick_r = first_moving_point(YAW_TABLES[self.firmware])
+        if abs(yaw) < v_r:
+            r = int(round(self._pulse("yaw", yaw, v_r) * stick_r))
+        else:
+            self._acc["yaw"], self._sign["yaw"] = 0.0, 0.0
+        v_z, z_down = _HEAVE_FIRST_DOWN
+        if abs(heave) < v_z:
+            p = self._pulse("heave", heave, v_z)
+            z = int(z_down) if p > 0 else int(_HEAVE_FIRST_UP[1]) if p < 0 else 500
+        else:
+            self._acc["heave"], self._sign["heave"] = 0.0, 0.0
+        return ManualControl(x=x, y=steady.y, z=z, r=r)

@@ -62,7 +62,7 @@ from ..servo.command import VelocityCommand
 from .connection import gcs_encoder, mavlink2, open_connection, url_kind
 from .engage import EngageInputs, decide
 from .setpoints import (NEUTRAL_STICKS, ZERO_GUIDED, GuidedVelocity, ManualControl,
-                        guided_from_velocity, manual_control_from_velocity)
+                        StickDither, guided_from_velocity)
 from .signing import load_key
 from .state import AutopilotState, GcsState, LinkStats, mode_name
 
@@ -193,6 +193,7 @@ class VehicleLink:
         self._fresh_since: float | None = None
         self._engaged_since_enable = False  # the perception settle applies until the first engagement
         self.firmware = "4.5"  # which stick tables: "4.7" once the autopilot answers MAV_GCS_SYSID
+        self._dither = StickDither(self.firmware)  # speeds below the sticks' dead zones as pulses
         self._last_unsigned_calls = 0
         self._bad_sig_base = 0
 
@@ -395,6 +396,7 @@ class VehicleLink:
         if firmware != self.firmware:
             self._event(f"{name} answered: ArduSub {firmware} stick tables")
             self.firmware = firmware
+            self._dither = StickDither(firmware)
         self._param_first_s = None
         if value == self.config.system_id and self.config.output_mode == "manual_control":
             self._warn(f"{name} = {value} is this controller's own system id (link.system_id): MANUAL_CONTROL "
@@ -525,6 +527,7 @@ class VehicleLink:
     def _set_engaged(self, engaged: bool, reason: str) -> None:
         """Record an engage/disengage transition and start the stop stream on disengage."""
         self._engaged = engaged
+        self._dither.reset()
         now = self.clock.now()
         if engaged:
             self._stop_until_s = None
@@ -539,10 +542,11 @@ class VehicleLink:
         if self._engaged:
             cmd = command if command is not None else VelocityCommand()
             if self.config.output_mode == "manual_control":
-                self._send_manual_control(manual_control_from_velocity(cmd, self.firmware))
+                self._send_manual_control(self._dither.sticks(cmd))
             else:
                 self._send_guided(guided_from_velocity(cmd))
         elif self._stop_until_s is not None:
+            self._dither.reset()
             if now <= self._stop_until_s:
                 self._send_stop()
             else:

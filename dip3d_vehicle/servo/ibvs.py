@@ -12,6 +12,14 @@ and metres, so the adaptive gain's infinity norm sees whichever is larger (the r
 from the target). Then, per axis: a soft dead-band on the error (``|e|`` shrunk by the band, so the
 command is continuous), saturation, and a rate (acceleration) limit.
 
+Coasting: in ALT_HOLD the forward stick is thrust, not speed; the vehicle speeds up in ~0.4 s but
+nothing brakes it except drag, so at the low speeds of the last few decimetres it coasts for seconds
+(measured on the 4.7 SITL: asked 0, still 0.06 m/s 1 s later; paper_pool seed 0 swung +-0.1 m about
+the stand-off for 30 s). With ``speed_gain`` > 0 the surge command also gets
+``speed_gain * (surge - measured)``, the measured forward speed being minus the target's filtered
+range rate (first-order filter ``speed_filter_s``): the vehicle is braked by reverse thrust when it
+moves faster than asked, the way the autopilot's own velocity loop would in GUIDED.
+
 Safety: when the target is lost (``target_px is None``) ``update`` returns ``NEUTRAL`` at once,
 without ramping down, and forgets the previous command; the autopilot's own velocity loop does the
 braking. When only the depth is missing the range feature and surge are dropped (surge ramps to
@@ -76,6 +84,8 @@ class PointServo:
         max_accel: per axis rate limit (m/s^2 ..., rad/s^2), same layout.
         deadband_px: image error band (pixels) treated as zero.
         deadband_m: range error band (m) treated as zero.
+        speed_gain: surge speed feedback on the measured approach speed (0 = none), 1.
+        speed_filter_s: time constant of the range-rate filter for that feedback, s.
     """
 
     def __init__(self, focal_px: float, principal_point_px: tuple[float, float],
@@ -83,7 +93,8 @@ class PointServo:
                  mount: CameraMount = CameraMount(), axes: Sequence[str] = ("surge", "heave", "yaw"),
                  max_speed: Sequence[float] | Mapping[str, float] = (0.4, 0.3, 0.3, 0.5),
                  max_accel: Sequence[float] | Mapping[str, float] = (0.4, 0.4, 0.4, 0.8),
-                 deadband_px: float = 0.0, deadband_m: float = 0.0) -> None:
+                 deadband_px: float = 0.0, deadband_m: float = 0.0, speed_gain: float = 0.0,
+                 speed_filter_s: float = 0.4) -> None:
         if not (focal_px > 0 and math.isfinite(focal_px)):
             raise ValueError(f"PointServo: focal_px = {focal_px!r}, expected > 0")
         if not standoff_m > 0:
@@ -102,6 +113,11 @@ class PointServo:
         self.max_accel = _per_axis(max_accel, "max_accel")
         self.deadband_px = float(deadband_px)
         self.deadband_m = float(deadband_m)
+        if not (speed_gain >= 0 and speed_filter_s > 0):
+            raise ValueError(f"PointServo: speed_gain = {speed_gain!r} (>= 0), speed_filter_s = {speed_filter_s!r} (> 0)")
+        self.speed_gain, self.speed_filter_s = float(speed_gain), float(speed_filter_s)
+        self._last_depth: float | None = None
+        self._range_rate: float | None = None  # filtered dZ/dt, m/s
         self._previous = np.zeros(4)
         self._last_errors: ServoErrors | None = None
 
@@ -134,6 +150,7 @@ class PointServo:
             max_accel=[p["max_surge_accel_m_s2"], p["max_sway_accel_m_s2"], p["max_heave_accel_m_s2"],
                        p["max_yaw_accel_rad_s2"]],
             deadband_px=p["deadband_px"], deadband_m=p["deadband_m"],
+            speed_gain=p["surge_speed_gain"], speed_filter_s=p["speed_filter_s"],
         )
 
     # -- errors and the law ----------------------------------------------------------------
@@ -208,16 +225,34 @@ class PointServo:
             return NEUTRAL
         self._last_errors = self.errors(target_px, depth_m)
         raw = self.law(target_px, depth_m)
+        approach = self._approach_speed(depth_m, dt_s)
+        i = VEHICLE_AXES.index("surge")
+        if approach is not None and "surge" in self.axes and self.speed_gain > 0:
+            raw[i] += self.speed_gain * (raw[i] - approach)
         sat = np.clip(raw, -self.max_speed, self.max_speed)
         step = self.max_accel * dt_s
         cmd = np.clip(sat, self._previous - step, self._previous + step)
         self._previous = cmd
         return VelocityCommand(*(float(v) for v in cmd))
 
+    def _approach_speed(self, depth_m: float | None, dt_s: float) -> float | None:
+        """Return the measured forward speed toward the target (-filtered dZ/dt), or None without two depths."""
+        if not _valid_depth(depth_m):
+            self._last_depth = self._range_rate = None
+            return None
+        last, self._last_depth = self._last_depth, float(depth_m)
+        if last is None:
+            return None
+        rate = (float(depth_m) - last) / dt_s
+        a = dt_s / (self.speed_filter_s + dt_s)
+        self._range_rate = rate if self._range_rate is None else self._range_rate + a * (rate - self._range_rate)
+        return -self._range_rate
+
     def reset(self) -> None:
-        """Forget the previous command (rate limits restart from rest) and the last errors."""
+        """Forget the previous command (rate limits restart from rest), the last errors and the range rate."""
         self._previous = np.zeros(4)
         self._last_errors = None
+        self._last_depth = self._range_rate = None
 
 
 def _shrink(value: float, band: float) -> float:

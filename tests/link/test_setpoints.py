@@ -8,7 +8,7 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from dip3d_vehicle.link.setpoints import (HEAVE_TABLE, NEUTRAL_STICKS, SURGE_TABLE, SWAY_TABLE, YAW_TABLE, YAW_TABLES,
+from dip3d_vehicle.link.setpoints import (HEAVE_TABLE, NEUTRAL_STICKS, SURGE_TABLE, StickDither, SWAY_TABLE, YAW_TABLE, YAW_TABLES,
                                           ZERO_GUIDED, guided_from_velocity, manual_control_from_velocity)
 from dip3d_vehicle.servo.command import NEUTRAL, VelocityCommand
 
@@ -111,3 +111,44 @@ def test_small_heave_is_outside_arudsubs_throttle_dead_zone() -> None:
     assert manual_control_from_velocity(VelocityCommand(heave_m_s=0.15)).z < 400
     assert manual_control_from_velocity(VelocityCommand(heave_m_s=-0.15)).z > 600
     assert abs(manual_control_from_velocity(VelocityCommand(heave_m_s=0.192)).z - 320) <= 1
+
+
+@pytest.mark.parametrize("speed, stick", [(0.115, 130), (0.144, 140), (0.164, 160), (0.206, 200), (0.258, 250),
+                                          (-0.164, -160)])
+def test_surge_hits_the_4_7_measured_points_above_its_dead_zone(speed: float, stick: int) -> None:
+    """Issue 13: x <= 120 gives no thrust on the 4.7 SITL; the old table sent x = 97 for 0.1 m/s."""
+    assert manual_control_from_velocity(VelocityCommand(surge_m_s=speed), "4.7").x == stick
+
+
+def _mean_speed(dither: StickDither, cmd: VelocityCommand, ticks: int = 200) -> tuple[float, float, float]:
+    """Mean (surge m/s, yaw rad/s, heave m/s) the pulses stand for, through the measured tables."""
+    surge = yaw = heave = 0.0
+    for _ in range(ticks):
+        s = dither.sticks(cmd)
+        surge += math.copysign(dict((p[1], p[0]) for p in SURGE_TABLE)[abs(s.x)], s.x) if s.x else 0.0
+        yaw += math.copysign(dict((p[1], p[0]) for p in YAW_TABLES["4.7"])[abs(s.r)], s.r) if s.r else 0.0
+        heave += {350: 0.133, 650: -0.133, 500: 0.0}[s.z]
+    return surge / ticks, yaw / ticks, heave / ticks
+
+
+@pytest.mark.parametrize("surge, yaw, heave", [(0.05, 0.02, 0.06), (-0.03, -0.01, -0.1), (0.11, 0.04, 0.13)])
+def test_dither_mean_follows_speeds_inside_the_dead_zones(surge: float, yaw: float, heave: float) -> None:
+    """Below the first moving stick every pulse is that stick (a steady one would do nothing); the mean follows."""
+    d = StickDither("4.7")
+    mean = _mean_speed(d, VelocityCommand(surge_m_s=surge, heave_m_s=heave, yaw_rate_rad_s=yaw))
+    assert mean == pytest.approx((surge, yaw, heave), abs=0.003)
+    for _ in range(20):
+        s = d.sticks(VelocityCommand(surge_m_s=surge, heave_m_s=heave, yaw_rate_rad_s=yaw))
+        assert s.x in (0, 130, -130) and s.r in (0, 130, -130) and s.z in (350, 500, 650)
+
+
+def test_dither_zero_is_neutral_at_once_and_steady_above_the_dead_zone() -> None:
+    d = StickDither("4.7")
+    for _ in range(7):
+        d.sticks(VelocityCommand(surge_m_s=0.05, yaw_rate_rad_s=0.03, heave_m_s=0.1))
+    assert d.sticks(VelocityCommand()) == NEUTRAL_STICKS  # no pulse left over after a stop
+    assert d.sticks(VelocityCommand(surge_m_s=0.01)) == NEUTRAL_STICKS  # the remainder was cleared
+    big = VelocityCommand(surge_m_s=0.3, heave_m_s=0.2, yaw_rate_rad_s=0.2)
+    assert d.sticks(big) == manual_control_from_velocity(big, "4.7")
+    d.reset()
+    assert d.sticks(VelocityCommand(surge_m_s=-0.05)).x == 0 and d.sticks(VelocityCommand(surge_m_s=-0.05)).x == -130

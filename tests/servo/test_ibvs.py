@@ -125,3 +125,26 @@ def test_default_command_grows_with_the_error():
     e = np.linspace(0.0, 5.0, 2001)
     effort = np.array([gain(v) * v for v in e])
     assert np.all(np.diff(effort) > 0)
+
+
+def test_speed_feedback_brakes_a_coasting_vehicle():
+    """Issue 13: at the stand-off but still closing at 0.1 m/s (coasting in ALT_HOLD), surge asks reverse."""
+    coasting = _servo(speed_gain=1.0, speed_filter_s=0.2)
+    plain = _servo()
+    for k in range(10):  # the target's range falls 0.02 m per 0.2 s frame, through the stand-off
+        depth = 1.18 - 0.02 * k  # the last frame is at the stand-off
+        cmd = coasting.update(C, depth, 0.2)
+        ref = plain.update(C, depth, 0.2)
+    assert cmd.surge_m_s < -0.05 and abs(ref.surge_m_s) < 0.01
+    # at rest at the stand-off nothing changes; a lost target forgets the rate (no kick on re-acquiring)
+    still = _servo(speed_gain=1.0)
+    assert all(still.update(C, 1.0, 0.2).surge_m_s == 0.0 for _ in range(5))
+    coasting.update(None, None, 0.2)
+    assert coasting.update(C, 1.0, 0.2).surge_m_s == 0.0
+
+
+def test_speed_feedback_parameters_are_checked():
+    with pytest.raises(ValueError, match="speed_gain"):
+        _servo(speed_gain=-1.0)
+    with pytest.raises(ValueError, match="speed_filter_s"):
+        _servo(speed_filter_s=0.0)

@@ -14,9 +14,10 @@ no longer an expected difference; the built-in autopilot agrees.
 
 The firmware target needs the binary: ``$DIP3D_ARDUSUB`` or ``$DIP3D_SHARED/ardusub-sitl/ardusub``
 (``../shared``); absent -> skipped with the reason. It runs with its own ``-I`` instance, loopback only.
-Not covered here (they need GUIDED, which the firmware accepts only ~41 s after boot): the GUIDED
-velocity timeout and the never-timing-out yaw rate; they are covered for the built-in autopilot by
-tests/sitl/test_autopilot_protocol.py.
+Not covered here: the GUIDED velocity timeout and the never-timing-out yaw rate (GUIDED needs a
+position source; with its simulated GPS the firmware accepts it only ~41 s after boot). They are
+checked on the firmware, with the SITL's simulated external navigation as its position source, by
+tests/sitl/test_firmware_guided.py, and on the built-in autopilot by tests/sitl/test_autopilot_protocol.py.
 """
 
 from __future__ import annotations

@@ -162,3 +162,16 @@ def test_joystick_scaling_matches_ardusub():
     assert joystick_to_pwm(500, 0, 500, 0)["forward"] == 1600
     assert joystick_to_pwm(1000, -1000, 1000, 250) == {"forward": 1700, "lateral": 1300, "throttle": 1700, "yaw": 1550}
     assert joystick_to_pwm(0, 0, 0, 0, gain=1.0)["throttle"] == 1100
+
+
+@pytest.mark.parametrize("x, lo, hi", [(120, -0.005, 0.005), (-120, -0.005, 0.005), (130, 0.09, 0.15),
+                                       (160, 0.13, 0.2), (-250, -0.3, -0.22)])
+def test_forward_dead_zone_as_measured_on_the_4_7_sitl(params, x, lo, hi):
+    """Issue 13 (tools/measure_ardusub_sticks.py --axis x): x <= 120 no thrust; 130 / 160 / -250: 0.115 / 0.164 / -0.258 m/s."""
+    vehicle = VehicleParams.from_params(params)
+    ctl = Controller(vehicle, ControlGains.from_params(params))
+    dyn = Dynamics(vehicle, VehicleState(depth_m=6.0))
+    pilot = PilotInput(**joystick_to_pwm(x, 0, 500, 0))
+    for _ in range(800):
+        dyn.step(DT, ctl.forces(MODE_NUMBERS["ALT_HOLD"], True, pilot, GuidedTarget(), dyn.state, 0.0))
+    assert lo <= dyn.state.u_m_s <= hi
