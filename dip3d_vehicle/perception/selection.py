@@ -343,7 +343,7 @@ class OpenSet:
             the same target (a placard split into fragments): the confidence is their summed probability.
     """
 
-    none_prior: float = 0.25
+    none_prior: float = 0.4
     none_solid_angle_sr: float = 1.0
     gate_sigmas: float = 4.0
     gate_min_rad: float = 0.26

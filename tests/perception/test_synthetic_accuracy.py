@@ -233,6 +233,7 @@ if __name__ == "__main__":  # pragma: no cover - the full table for the closing 
             for family in sf.FAMILIES:
                 sf.tally_family(Path(tmp), family, n, 8, seed0, tally=everything)
         print(sf.report(everything))
+        print("\n" + sf.band_table(everything) + "\n")
         for profile in ("paper", "default"):
             for sigma in NOISE_PX:
                 det = everything.merged(profile, sigma, ("line_of_sight", "far", "elbow", "far_diver"))
