@@ -336,9 +336,11 @@ class OpenSet:
         gate_sigmas: an object farther than this many sigmas from the arm's direction IN THE LEFT
             IMAGE (or behind the wrist there) can never be chosen, whatever the 3D fit says.
         gate_min_rad: the image gate is never narrower than this, radians.
-        none_min_probability: "nothing detected" is the answer only at or above this probability
-            (telling the diver "nothing there" needs confidence too); below it, when it merely
-            leads, the best object is returned flagged ambiguous.
+        none_min_probability: "nothing detected" is the answer when it is the most likely
+            hypothesis with at least this probability (0.5: every object then has at most 0.5,
+            below ``min_confidence``, so no decided pick is lost); below it, when it merely leads,
+            the best object is returned flagged ambiguous. Per-frame status only: the
+            probabilities, which the fused decision over the point uses, do not depend on it.
         same_target_gap_m: objects whose points come this close to the chosen one's are parts of
             the same target (a placard split into fragments): the confidence is their summed probability.
     """
@@ -347,7 +349,7 @@ class OpenSet:
     none_solid_angle_sr: float = 1.0
     gate_sigmas: float = 4.0
     gate_min_rad: float = 0.26
-    none_min_probability: float = 0.75
+    none_min_probability: float = 0.5
     same_target_gap_m: float = 0.1
 
 

@@ -324,3 +324,24 @@ def report(tally: Tally, noise_px=(0.0, 1.0, 2.0, 4.0), families=FAMILIES) -> st
                 if cells:
                     lines.append(f"  {family:14s} {band}  " + "  ".join(cells) + (f"  recall {hit}/{total}" if total else ""))
     return "\n".join(lines)
+
+
+def band_table(tally: Tally, noise_px=(0.0, 1.0, 2.0, 4.0)) -> str:
+    """Return the issue's table: per profile, range band and noise, correct / abstained / confidently wrong.
+
+    Detectable targets (every family but ``undetectable``) and undetectable ones are counted apart,
+    as the targets are; recall is per band over the detectable targets.
+    """
+    lines = ["profile  band   noise  detectable: correct/abstained/conf.wrong (draws)  "
+             "undetectable: nothing_on_ray/abstained/conf.wrong (draws)  recall"]
+    detectable = tuple(f for f in FAMILIES if f != "undetectable")
+    for profile in ("paper", "default"):
+        for band in ("1-3 m", "3-6 m"):
+            hit, total = tally.merged_recall(profile, detectable, (band,))
+            for sigma in noise_px:
+                det = tally.merged(profile, sigma, detectable, (band,))
+                und = tally.merged(profile, sigma, ("undetectable",), (band,))
+                cells = [f"{rate(c, 'correct'):6.1%}/{rate(c, 'abstained'):6.1%}/{rate(c, 'confident_wrong'):5.1%}"
+                         f" ({sum(c.values()):3d})" if sum(c.values()) else f"{'-':>28s}" for c in (det, und)]
+                lines.append(f"{profile:8s} {band}  {sigma:3.0f}px  {cells[0]:>40s}  {cells[1]:>48s}  {hit}/{total}")
+    return "\n".join(lines)
