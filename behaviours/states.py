@@ -305,6 +305,7 @@ class Acknowledge(MissionState):
         super().enter(bb)
         self.ack = Acknowledgement(bb.config)
         self.ack.start(bb.now_s)
+        self.start_xyz = None if bb.tracker.xyz_m is None else bb.tracker.xyz_m.copy()
         bb.say(f"acknowledging with {bb.config.ack_kind}")
 
     def tick(self, bb: Blackboard) -> str | None:
@@ -312,6 +313,8 @@ class Acknowledge(MissionState):
         command, servos, finished = self.ack.tick(bb.now_s)
         bb.set_command(command)
         bb.outbox.extend(servos)
+        if finished and self.start_xyz is not None:  # the nod ends at the heading it began at
+            bb.tracker.rewind(self.start_xyz, bb.now_s)
         return "acked" if finished else None
 
     def exit(self, bb: Blackboard) -> None:

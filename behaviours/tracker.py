@@ -135,6 +135,16 @@ class TargetTracker:
         self.last_seen_s = self.last_frame_s = stamp_s
         self.misses = 0
 
+    def rewind(self, xyz_m: np.ndarray, stamp_s: float) -> None:
+        """The vehicle is back where it saw the target at ``xyz_m`` (after a zero-net manoeuvre, the nod):
+        predict from there again, and forgive the misses of the manoeuvre (its dead reckoning drifts)."""
+        if self.xyz_m is None:
+            return
+        self.xyz_m = np.asarray(xyz_m, dtype=float).copy()
+        self.last_frame_s = stamp_s
+        if self.misses:
+            self.misses, self.last_seen_s = 0, stamp_s
+
     def predicted_xyz(self, stamp_s: float, command: VelocityCommand | None) -> np.ndarray | None:
         """Return where the target should be at ``stamp_s`` given the commanded motion."""
         if self.xyz_m is None:

@@ -54,3 +54,25 @@ def test_tracker_keeps_the_target_while_the_vehicle_approaches_and_turns():
             assert nearest == sc.target_id, f"step {k}: tracked placard {nearest}"
             assert np.linalg.norm(truth[sc.target_id] - found.xyz_m) < 0.15
     assert tracker.misses == 0
+
+
+def test_rewind_after_the_nod_predicts_from_where_the_target_was_and_forgives_its_misses():
+    """The nod ends at the heading it began at: dead reckoning through it may have drifted and missed
+    the target; ``rewind`` puts the prediction back at the target's position before the nod."""
+    from dip3d_vehicle.perception.values import Candidates, ObjectCandidate
+
+    rig = load_scenario("paper_pool", 0).rig()
+    tracker = TargetTracker(TrackerConfig(), rig)
+    tracker.rewind(np.zeros(3), 0.0)  # not tracking: nothing to rewind
+    assert tracker.xyz_m is None
+    cands = Candidates(np.zeros((4, 2)), np.zeros((4, 2)), np.random.default_rng(1).random((4, 128), np.float32),
+                       np.zeros(4))
+    before = np.array([0.4, -0.2, 3.0])
+    tracker.start(ObjectCandidate(np.array([900.0, 520.0]), before, 0.02, (0, 1, 2, 3)), cands, 0.0)
+    turn = VelocityCommand(yaw_rate_rad_s=0.35)
+    for k in range(1, 5):  # the nod's swing, nothing found
+        tracker.update(Candidates.empty(), np.zeros((0, 3)), 0.2 * k, turn)
+    assert tracker.lost and np.linalg.norm(tracker.xyz_m - before) > 0.1
+    tracker.rewind(before, 1.0)
+    assert not tracker.lost and tracker.misses == 0
+    np.testing.assert_allclose(tracker.predicted_xyz(1.0, None), before)
