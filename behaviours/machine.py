@@ -119,13 +119,14 @@ class Mission:
     def track_roi(self, rig, image_size: tuple[int, int]) -> tuple[int, int, int, int] | None:
         """Return where to look for the target in the next frame (rectified px), or None = everywhere.
 
-        Only in tracking states with a target seen recently (not in lost_target, which searches the
-        whole frame): a box around the predicted centre, ``behaviour.track_roi_margin_px`` plus the
-        projected size of ``behaviour.track_roi_object_m`` on each side; its left edge is widened by
-        twice the predicted disparity so the right image's matches fall inside.
+        Only in tracking states with a target (not in lost_target, which searches the whole frame): a
+        box around the predicted centre, ``behaviour.track_roi_margin_px`` plus the projected size of
+        ``behaviour.track_roi_object_m`` on each side (the margin doubled after a miss, so the
+        corridor's features, which only a box gets, still cover a drifting prediction); its left edge
+        is widened by twice the predicted disparity so the right image's matches fall inside.
         """
         bb, tracker = self.bb, self.bb.tracker
-        if self.needs != "track" or self.state == "lost_target" or not tracker.active or tracker.misses > 0:
+        if self.needs != "track" or self.state == "lost_target" or not tracker.active:
             return None
         xyz = tracker.predicted_xyz(bb.now_s, bb.command)
         if xyz is None or xyz[2] < 0.2:
@@ -133,7 +134,7 @@ class Mission:
         f = rig.focal_px
         cx, cy = rig.principal_point_px
         u, v = f * xyz[0] / xyz[2] + cx, f * xyz[1] / xyz[2] + cy
-        half = bb.config.track_roi_margin_px + f * bb.config.track_roi_object_m / xyz[2]
+        half = bb.config.track_roi_margin_px * (2.0 if tracker.misses else 1.0) + f * bb.config.track_roi_object_m / xyz[2]
         disparity = f * abs(rig.baseline_m) / xyz[2]
         w, h = image_size
         x0, x1 = int(max(0, u - half - 2 * disparity)), int(min(w, u + half))
