@@ -27,7 +27,7 @@ from ..models import model_path
 from .blazepose_decode import DETECTOR_SIZE, decode, weighted_nms
 from .blazepose_roi import Roi, crop_matrix, letterbox_matrix, roi_from_points, warp
 from .calibration import StereoRig
-from .joint_stereo import match_joint_disparity, subpixel_peak as _subpixel
+from .joint_stereo import JointDisparity, joint_disparities, match_joint_disparity, subpixel_peak as _subpixel
 from .pose import ARM_INDICES, PoseEstimator
 from .values import ArmKeypoints
 
@@ -45,6 +45,8 @@ _HEATMAP_MIN_CONF = 0.5         # ... min_confidence_to_refine
 _SEARCH_POINTS = (0, 11, 12, 13, 14, 15, 16, 23, 24)   # head, arms, hips: template for disparity
 _TEMPLATE_WIDTH_PX = 96         # width of the downscaled template used to find the disparity
 _STRETCH_PERCENT = (1.0, 99.0)  # contrast retry: per-channel percentile stretch
+JOINT_DISPARITY = ("landmarks", "match", "stereo")
+"""Ways of finding the arm joints' right-image x (``blazepose.joint_disparity``)."""
 
 Contrast = tuple[np.ndarray, np.ndarray]
 """Per-channel (low, high) levels of a contrast stretch, in the image's channel order."""
@@ -320,12 +322,16 @@ class BlazePoseEstimator(PoseEstimator):
 
     def __init__(self, pose: BlazePose, arm: str = "right", tracking: bool = True,
                  stereo_search: str = "roi", max_disparity_px: float = 400.0,
-                 joint_disparity: str = "landmarks") -> None:
+                 joint_disparity: str = "landmarks", disparity_floor_px: float = 1.5) -> None:
         """Wrap a ``BlazePose``; ``stereo_search`` is "roi" (search along rows) or "detect".
 
         ``joint_disparity``: "landmarks" = the right image's landmarks as BlazePose places them;
         "match" = each arm joint's right position found by patch matching along its rectified
-        row around them (``joint_stereo.match_joint_disparity``).
+        row around them (``joint_stereo.match_joint_disparity``); "stereo" = each left joint's patch
+        matched along its row within the depths an arm reaches from the body
+        (``joint_stereo.joint_disparities``): the right landmarks are not used for depth, and the
+        arm carries each joint's disparity sigma (the match's own, at least ``disparity_floor_px``),
+        which the pipeline turns into the joints' depth sigma for the selector.
 
         Keypoints are returned whatever their confidence: the pipeline applies
         ``pose.min_confidence`` (and reports ``pose_low_confidence`` rather than ``no_pose``).
@@ -339,9 +345,11 @@ class BlazePoseEstimator(PoseEstimator):
         self.tracking = bool(tracking)
         self.stereo_search = stereo_search
         self.max_disparity_px = float(max_disparity_px)
-        if joint_disparity not in ("landmarks", "match"):
-            raise ValueError(f"joint_disparity must be 'landmarks' or 'match', not {joint_disparity!r}")
+        if joint_disparity not in JOINT_DISPARITY:
+            raise ValueError(f"joint_disparity must be one of {', '.join(JOINT_DISPARITY)}, not {joint_disparity!r}")
         self.joint_disparity = joint_disparity
+        self.disparity_floor_px = float(disparity_floor_px)
+        self._body_disparity_px: float | None = None
         self.stats = StereoStats()
         self.last: tuple[PoseLandmarks | None, PoseLandmarks | None] = (None, None)
         self._left, self._right = _Track(), _Track()
@@ -352,7 +360,8 @@ class BlazePoseEstimator(PoseEstimator):
         return cls(BlazePose.from_params(params), arm=params["pose.arm"], tracking=params["blazepose.tracking"],
                    stereo_search=params["blazepose.stereo_search"],
                    max_disparity_px=params["blazepose.max_disparity_px"],
-                   joint_disparity=params.get("blazepose.joint_disparity", "landmarks"))
+                   joint_disparity=params.get("blazepose.joint_disparity", "landmarks"),
+                   disparity_floor_px=params.get("blazepose.disparity_floor_px", 1.5))
 
     def reset(self) -> None:
         """Forget both cameras' tracking state."""
@@ -362,6 +371,7 @@ class BlazePoseEstimator(PoseEstimator):
         """Return the arm in rectified pixels of both images (confidence = visibility), or None."""
         left = self._follow(left_rect, self._left)
         self._left.update(left, self.tracking)
+        self._body_disparity_px = None
         right = None
         if left is not None:
             right = self._right_pose(left_rect, right_rect, left, rig.disparity_sign)
@@ -370,9 +380,28 @@ class BlazePoseEstimator(PoseEstimator):
         if left is None or right is None:
             return None
         (lxy, lconf), (rxy, rconf) = left.arm(self.arm), right.arm(self.arm)
+        sigma = None
         if self.joint_disparity == "match":
             rxy = match_joint_disparity(left_rect, right_rect, lxy, rxy, rig.disparity_sign)
-        return ArmKeypoints(self.arm, lxy, rxy, lconf, rconf, source="blazepose", extra_left_px=_extra(left, self.arm))
+        elif self.joint_disparity == "stereo":
+            found = self.stereo_joints(left_rect, right_rect, left, rig)
+            if found is not None:
+                rxy = np.c_[lxy[:, 0] - found.disparity_px, lxy[:, 1]]
+                sigma = np.maximum(found.sigma_px, self.disparity_floor_px)
+        return ArmKeypoints(self.arm, lxy, rxy, lconf, rconf, source="blazepose", extra_left_px=_extra(left, self.arm),
+                            disparity_sigma_px=sigma)
+
+    def stereo_joints(self, left_rect: np.ndarray, right_rect: np.ndarray, left: PoseLandmarks,
+                      rig: StereoRig) -> JointDisparity | None:
+        """Return the arm joints' disparities matched along their rows around the body's (None: no body disparity)."""
+        sign = rig.disparity_sign
+        body = self._body_disparity_px
+        if body is None:
+            body = body_disparity(left_rect, right_rect, left, sign, self.max_disparity_px)
+        if body is None:
+            return None
+        xy, _ = left.arm(self.arm)
+        return joint_disparities(left_rect, right_rect, xy, sign * body, sign, rig.focal_px, rig.baseline_m)
 
     def _follow(self, image: np.ndarray, track: _Track) -> PoseLandmarks | None:
         """Return the pose in the tracked ROI, or from a fresh detection when there is none.
@@ -413,6 +442,7 @@ class BlazePoseEstimator(PoseEstimator):
                      sign: int) -> PoseLandmarks | None:
         """Return the right pose in the left ROI shifted by the body's disparity (None if not found)."""
         disparity = body_disparity(left_img, right_img, left, sign, self.max_disparity_px)
+        self._body_disparity_px = disparity
         if disparity is None:
             return None
         self._tell_early(left, disparity, sign)

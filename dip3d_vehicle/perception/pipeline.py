@@ -210,12 +210,14 @@ class Perception:
         return PerceptionResult("ok", "", arm, arm3d, cands, xyz, sel, tm)
 
     def triangulate_arm(self, arm: ArmKeypoints) -> Arm3D:
-        """Triangulate the three joints; depth sigma from this frame's keypoint noise (metres)."""
+        """Triangulate the three joints; depth sigma from this frame's keypoint noise or the estimator's (metres)."""
         disp = arm.left_px[:, 0] - arm.right_px[:, 0]
         rows = (arm.left_px[:, 1] + arm.right_px[:, 1]) / 2.0
         xyz = triangulate(self.Q, np.c_[arm.left_px[:, 0], rows], disp)
-        noise_px = keypoint_noise_px(arm, self.params["selection.keypoint_sigma_px"])
-        sigma = self.rig.depth_sigma_m(np.abs(xyz[:, 2]), math.sqrt(2.0) * noise_px)
+        disparity_sigma_px = math.sqrt(2.0) * keypoint_noise_px(arm, self.params["selection.keypoint_sigma_px"])
+        if arm.disparity_sigma_px is not None:  # the estimator's own per-joint figure, where it is larger
+            disparity_sigma_px = np.maximum(disparity_sigma_px, np.asarray(arm.disparity_sigma_px, dtype=float))
+        sigma = self.rig.depth_sigma_m(np.abs(xyz[:, 2]), disparity_sigma_px)
         return Arm3D(xyz, np.asarray(sigma, dtype=float))
 
 

@@ -35,6 +35,9 @@ class ArmKeypoints:
         source: which estimator produced them (e.g. "keypoints-file", "blazepose", "sim-truth").
         extra_left_px: optional ``EXTRA_JOINTS`` seen in the rectified left image, by name (x, y);
             absent names were not given or not seen.
+        disparity_sigma_px: optional (3,) one-sigma error of each joint's disparity (x_left -
+            x_right) as the estimator measured it, pixels; None = unknown (the pipeline then uses
+            the keypoints' epipolar residuals and ``selection.keypoint_sigma_px``).
     """
 
     arm: str
@@ -44,6 +47,7 @@ class ArmKeypoints:
     right_conf: np.ndarray
     source: str = ""
     extra_left_px: dict = field(default_factory=dict)
+    disparity_sigma_px: np.ndarray | None = None
 
     def joint(self, name: str, side: str = "left") -> np.ndarray:
         """Return one joint's (x, y) in the rectified ``side`` image, pixels."""
