@@ -8,16 +8,21 @@ taken several ways:
 - ``landmarks``: the right image's own BlazePose landmarks (``blazepose.joint_disparity: landmarks``);
 - ``match``: patch matching around the right landmarks (``joint_disparity: match``);
 - ``body``: every joint at the body's disparity (the arm lies in the body's depth plane);
-- ``stereo``: ``joint_stereo.joint_disparities`` (the joint's left patch searched along its row
-  within the depth span an arm can reach from the body, with a left-right check; a joint without a
-  valid match takes the body's disparity with a wide sigma).
+- ``matched``: ``joint_stereo.joint_disparities`` for all three joints (the joint's left patch
+  searched along its row within the depth span an arm can reach from the body, with a left-right
+  check; a joint without a valid match takes the body's disparity with a wide sigma);
+- ``stereo``: ``blazepose.joint_disparity: stereo`` (elbow and wrist as ``matched``, the shoulder
+  from the torso: ``joint_stereo.shoulder_disparity``).
 
 Error = the angle between the shoulder-to-wrist direction triangulated from each and the one
 triangulated from the truth joints (``meta["keypoints_truth"]``, the body's joint centres; the
 left-image positions are BlazePose's in both, so the 2D part of the error is common), degrees; also
-per joint, the disparity error (px) and the error divided by the method's own sigma (``z``).
+per joint, the disparity error (px) and the error divided by the method's own sigma (``z``). With
+``--select`` the perception pipeline (candidates, selector) also runs on each frame with each named
+method's arm: "right" / "wrong" (a confident choice of the pointed / another placard) or why it
+abstained (one frame: the mission fuses several).
 
-    python -m sitl.arm_eval [--scenario paper_pool] [--seeds 0-9] [--frames 6] [--json OUT]
+    python -m sitl.arm_eval [--scenario paper_pool] [--seeds 0-9] [--frames 6] [--select stereo ...] [--json OUT]
 """
 
 from __future__ import annotations
@@ -32,7 +37,7 @@ import numpy as np
 
 __all__ = ["METHODS", "evaluate_seed", "summarise", "main"]
 
-METHODS = ("landmarks", "match", "body", "stereo")
+METHODS = ("landmarks", "match", "body", "matched", "stereo")
 
 
 def _direction(Q: np.ndarray, left_px: np.ndarray, disparity_px: np.ndarray) -> np.ndarray:
@@ -49,9 +54,9 @@ def _angle_deg(a: np.ndarray, b: np.ndarray) -> float:
     return math.degrees(math.acos(float(np.clip(a @ b, -1.0, 1.0))))
 
 
-def evaluate_seed(scenario: str, seed: int, frames: int, params, select: bool = False) -> list[dict]:
+def evaluate_seed(scenario: str, seed: int, frames: int, params, select: Sequence[str] = ()) -> list[dict]:
     """Render ``frames`` frames of one seed and return one row per frame where BlazePose found the arm."""
-    from dip3d_vehicle.perception.blazepose import BlazePoseEstimator, body_disparity
+    from dip3d_vehicle.perception.blazepose import JOINT_PATCH_M, BlazePoseEstimator, body_disparity
     from dip3d_vehicle.perception.joint_stereo import joint_disparities, match_joint_disparity
     from dip3d_vehicle.perception.keypoints_file import GivenKeypoints
     from dip3d_vehicle.perception.triangulation import normalize_q
@@ -93,8 +98,11 @@ def evaluate_seed(scenario: str, seed: int, frames: int, params, select: bool = 
             sig: dict[str, np.ndarray] = {}
             if body is not None:
                 disp["body"] = np.full(3, sign * body)
-                js = joint_disparities(left_img, right_img, lxy, sign * body, sign, rig.focal_px, rig.baseline_m)
-                disp["stereo"], sig["stereo"] = js.disparity_px, js.sigma_px
+                js = joint_disparities(left_img, right_img, lxy, sign * body, sign, rig.focal_px, rig.baseline_m,
+                                       patch_m=JOINT_PATCH_M)
+                disp["matched"], sig["matched"] = js.disparity_px, js.sigma_px
+                st = est.stereo_joints(left_img, right_img, left_lm, rig)
+                disp["stereo"], sig["stereo"] = st.disparity_px, st.sigma_px
             t_dir = _direction(Q, truth.left_px, true_disp)
             row: dict[str, Any] = {"seed": seed, "position": sc.diver.position_name, "t_s": round(t, 2),
                                    "true_disparity_px": true_disp.round(2).tolist(),
@@ -108,7 +116,7 @@ def evaluate_seed(scenario: str, seed: int, frames: int, params, select: bool = 
                 if name in sig:
                     row[name]["sigma_px"] = sig[name].round(2).tolist()
             if perception is not None:
-                for name in disp:
+                for name in (m for m in disp if m in select):
                     row[name]["select"] = _select(perception, frame.meta, rig, left_img, right_img, arm, disp[name],
                                                   sig.get(name), name == "landmarks")
             rows.append(row)
@@ -164,7 +172,7 @@ def summarise(rows: list[dict]) -> dict:
                "over_20deg": int(np.sum(deg > 20.0))}
         if errs is not None:
             res["disp_err_median_px"] = np.median(errs, axis=0).round(1).tolist()
-        if name == "stereo":
+        if name in ("matched", "stereo"):
             have = [r[name] for r in rows if name in r and "sigma_px" in r[name]]
             z = np.abs(np.array([h["disp_err_px"] for h in have])) / np.array([h["sigma_px"] for h in have])
             res["z_p90"] = np.percentile(z, 90, axis=0).round(2).tolist()
@@ -192,7 +200,8 @@ def main(argv: Sequence[str] | None = None) -> None:
     ap.add_argument("--seeds", default="0-9")
     ap.add_argument("--frames", type=int, default=6)
     ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
-    ap.add_argument("--select", action="store_true", help="also run the selector per frame with each method's arm")
+    ap.add_argument("--select", nargs="*", default=[], metavar="METHOD",
+                    help="also run the selector per frame with these methods' arms")
     ap.add_argument("--json", default=None)
     args = ap.parse_args(argv)
     sets = dict(s.split("=", 1) for s in args.set)

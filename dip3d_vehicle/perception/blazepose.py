@@ -27,7 +27,8 @@ from ..models import model_path
 from .blazepose_decode import DETECTOR_SIZE, decode, weighted_nms
 from .blazepose_roi import Roi, crop_matrix, letterbox_matrix, roi_from_points, warp
 from .calibration import StereoRig
-from .joint_stereo import JointDisparity, joint_disparities, match_joint_disparity, subpixel_peak as _subpixel
+from .joint_stereo import (JointDisparity, joint_disparities, match_joint_disparity, shoulder_disparity,
+                           subpixel_peak as _subpixel)
 from .pose import ARM_INDICES, PoseEstimator
 from .values import ArmKeypoints
 
@@ -47,6 +48,15 @@ _TEMPLATE_WIDTH_PX = 96         # width of the downscaled template used to find 
 _STRETCH_PERCENT = (1.0, 99.0)  # contrast retry: per-channel percentile stretch
 JOINT_DISPARITY = ("landmarks", "match", "stereo")
 """Ways of finding the arm joints' right-image x (``blazepose.joint_disparity``)."""
+JOINT_PATCH_M = 0.12
+"""Side of the patch matched around an elbow or wrist for ``stereo``, metres at the body's depth (wrist
+disparity error on paper_pool's diver at 3 m: std 0.9 px at 0.12 m, 1.1 at 0.09, 2.2 at 0.06; issue 14)."""
+_OTHER = {"right": "left", "left": "right"}
+ELBOW_FLOOR_FACTOR = np.array([1.0, 2.5, 1.0])
+"""Per joint (shoulder, elbow, wrist): the disparity sigma floor of ``stereo`` in units of
+``blazepose.disparity_floor_px``. The elbow's landmark sits on the arm's edge and a level arm has
+only row-parallel edges there: on the simulated diver its matched disparity erred by 2-3 px
+(median) and 7-12 px (p90) against 0.5-1.5 / 1.3-2.9 px for the wrist (``sitl.arm_eval``, issue 14)."""
 
 Contrast = tuple[np.ndarray, np.ndarray]
 """Per-channel (low, high) levels of a contrast stretch, in the image's channel order."""
@@ -327,11 +337,13 @@ class BlazePoseEstimator(PoseEstimator):
 
         ``joint_disparity``: "landmarks" = the right image's landmarks as BlazePose places them;
         "match" = each arm joint's right position found by patch matching along its rectified
-        row around them (``joint_stereo.match_joint_disparity``); "stereo" = each left joint's patch
-        matched along its row within the depths an arm reaches from the body
-        (``joint_stereo.joint_disparities``): the right landmarks are not used for depth, and the
-        arm carries each joint's disparity sigma (the match's own, at least ``disparity_floor_px``),
-        which the pipeline turns into the joints' depth sigma for the selector.
+        row around them (``joint_stereo.match_joint_disparity``); "stereo" = the elbow's and
+        wrist's left patches matched along their rows within the depths an arm reaches from the
+        body (``joint_stereo.joint_disparities``) and the shoulder placed from the torso (the body's
+        disparity, half a shoulder width nearer or farther by the torso's turn,
+        ``joint_stereo.shoulder_disparity``): the right landmarks are not used for depth, and the
+        arm carries each joint's disparity sigma (its own, at least ``disparity_floor_px``), which
+        the pipeline turns into the joints' depth sigma for the selector.
 
         Keypoints are returned whatever their confidence: the pipeline applies
         ``pose.min_confidence`` (and reports ``pose_low_confidence`` rather than ``no_pose``).
@@ -387,13 +399,13 @@ class BlazePoseEstimator(PoseEstimator):
             found = self.stereo_joints(left_rect, right_rect, left, rig)
             if found is not None:
                 rxy = np.c_[lxy[:, 0] - found.disparity_px, lxy[:, 1]]
-                sigma = np.maximum(found.sigma_px, self.disparity_floor_px)
+                sigma = np.maximum(found.sigma_px, self.disparity_floor_px * ELBOW_FLOOR_FACTOR)
         return ArmKeypoints(self.arm, lxy, rxy, lconf, rconf, source="blazepose", extra_left_px=_extra(left, self.arm),
                             disparity_sigma_px=sigma)
 
     def stereo_joints(self, left_rect: np.ndarray, right_rect: np.ndarray, left: PoseLandmarks,
                       rig: StereoRig) -> JointDisparity | None:
-        """Return the arm joints' disparities matched along their rows around the body's (None: no body disparity)."""
+        """Return the arm joints' disparities: elbow and wrist matched, the shoulder from the torso (None: no body)."""
         sign = rig.disparity_sign
         body = self._body_disparity_px
         if body is None:
@@ -401,7 +413,14 @@ class BlazePoseEstimator(PoseEstimator):
         if body is None:
             return None
         xy, _ = left.arm(self.arm)
-        return joint_disparities(left_rect, right_rect, xy, sign * body, sign, rig.focal_px, rig.baseline_m)
+        found = joint_disparities(left_rect, right_rect, xy, sign * body, sign, rig.focal_px, rig.baseline_m,
+                                  patch_m=JOINT_PATCH_M)
+        near = left.z_px[ARM_INDICES[self.arm][0]] <= left.z_px[ARM_INDICES[_OTHER[self.arm]][0]]
+        apart = float(np.linalg.norm(left.xy_px[11] - left.xy_px[12]))
+        d, sd = shoulder_disparity(sign * body, apart, bool(near), rig.focal_px, rig.baseline_m)
+        disp, sigma, matched = found.disparity_px.copy(), found.sigma_px.copy(), found.matched.copy()
+        disp[0], sigma[0], matched[0] = d, sd, False
+        return JointDisparity(disp, sigma, matched, found.score)
 
     def _follow(self, image: np.ndarray, track: _Track) -> PoseLandmarks | None:
         """Return the pose in the tracked ROI, or from a fresh detection when there is none.

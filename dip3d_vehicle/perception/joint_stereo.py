@@ -18,6 +18,7 @@ import cv2
 import numpy as np
 
 __all__ = ["match_joint_disparity", "subpixel_peak", "joint_disparities", "JointDisparity", "reach_disparities",
+           "shoulder_disparity", "SHOULDER_WIDTH_M",
            "ARM_REACH_M"]
 
 
@@ -79,8 +80,9 @@ def match_joint_disparity(left: np.ndarray, right: np.ndarray, left_xy: np.ndarr
 ARM_REACH_M = 0.8
 """How far (depth, metres) an arm joint can lie in front of or behind the body's depth plane."""
 
-_FLAT_SCORE = 0.05
-"""Disparities scoring within this of the best NCC are as good as the best (their span is the sigma)."""
+_FLAT_SCORE = 0.01
+"""Disparities scoring within this of the best NCC are as good as the best (their span is the sigma; with
+0.05 the wrist's sigma on the simulated diver was 3-10 times its error, issue 14)."""
 
 
 @dataclass(frozen=True)
@@ -90,8 +92,9 @@ class JointDisparity:
     Attributes:
         disparity_px: (N,) disparities.
         sigma_px: (N,) one-sigma error: the half-span of the disparities whose score is within
-            ``_FLAT_SCORE`` of the best (a flat or double peak gives a wide one); for an unmatched
-            joint the body's disparity with a quarter of the arm's reachable span.
+            ``_FLAT_SCORE`` of the best (a flat or double peak gives a wide one: an arm held level
+            has only row-parallel edges); for an unmatched joint the body's disparity with a
+            quarter of the arm's reachable span.
         matched: (N,) True where the patch match passed its checks.
         score: (N,) the best normalised cross-correlation (NaN where none was computed).
     """
@@ -188,3 +191,36 @@ def joint_disparities(left: np.ndarray, right: np.ndarray, left_xy: np.ndarray, 
         sigma[k], matched[k], score[k] = sig, True, sc
     return JointDisparity(disp, sigma, matched, score)
 
+
+
+SHOULDER_WIDTH_M = (0.38, 0.03)
+"""Distance between the two shoulder joint centres of an adult, metres: (typical, one sigma)."""
+
+
+def shoulder_disparity(body_disparity_px: float, shoulders_apart_px: float, near: bool, focal_px: float,
+                       baseline_m: float, body_sigma_px: float = 0.5, landmark_sigma_px: float = 8.0,
+                       width_m: tuple[float, float] = SHOULDER_WIDTH_M) -> tuple[float, float]:
+    """Return the pointing shoulder's disparity (x_left - x_right, pixels) and its sigma from a torso model.
+
+    A shoulder's own patch holds little it can be matched by (a round, evenly shaded blob) and, seen
+    from the side, the neck and the back behind it, which lie at the torso's centre: matched, it
+    comes out at the torso's depth. Here the torso's centre is at the body's disparity and the
+    shoulders lie half a shoulder width to either side of it: their image separation gives the
+    torso's turn (|cos| = separation x depth / (focal x width)), so the shoulder is nearer (``near``)
+    or farther than the centre by (width / 2) x sin(turn).
+    """
+    fb = focal_px * baseline_m
+    depth = fb / max(abs(body_disparity_px), 1e-6)
+    width, width_sigma = width_m
+    cos_turn = float(np.clip(shoulders_apart_px * depth / (focal_px * width), 0.0, 1.0))
+    sin_turn = math.sqrt(1.0 - cos_turn ** 2)
+    offset = 0.5 * width * sin_turn * (-1.0 if near else 1.0)
+    # the width varies between people; near a frontal view sin is sensitive to the landmarks' error
+    cos_sigma = math.sqrt(2.0) * landmark_sigma_px * depth / (focal_px * width)
+    sin_sigma = min(1.0, cos_sigma * cos_turn / max(sin_turn, 0.3))
+    offset_sigma = math.hypot(0.5 * width_sigma * sin_turn, 0.5 * width * sin_sigma)
+    shoulder_depth = max(depth + offset, 0.1)
+    sign = 1.0 if body_disparity_px >= 0 else -1.0
+    disparity = sign * fb / shoulder_depth
+    sigma = math.hypot(body_sigma_px * (depth / shoulder_depth) ** 2, fb / shoulder_depth ** 2 * offset_sigma)
+    return disparity, sigma

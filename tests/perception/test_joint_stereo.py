@@ -75,3 +75,18 @@ def test_joint_disparities_rejects_a_match_outside_the_reach():
     left, right = _pair(80)                    # the content is at 80 px: far nearer than the body allows
     out = joint_disparities(left, right, np.array([[250.0, 100.0]]), 20.0, 1, 920.0, 0.12)
     assert not out.matched[0] and out.disparity_px[0] == 20.0
+
+
+def test_shoulder_from_the_torso_side_on_and_facing():
+    from dip3d_vehicle.perception.joint_stereo import shoulder_disparity
+
+    f, b = 920.0, 0.12
+    body = f * b / 3.0                          # torso centre 3 m away
+    # side on (shoulders 0.38 m apart along the view: a few px apart in the image): the near one 0.19 m nearer
+    near, near_sigma = shoulder_disparity(body, 5.0, True, f, b)
+    far, _ = shoulder_disparity(body, 5.0, False, f, b)
+    assert abs(f * b / near - 2.81) < 0.01 and abs(f * b / far - 3.19) < 0.01
+    assert near_sigma < 1.0
+    # facing the camera (0.38 m apart across the image): both at the torso's depth, with a wider sigma
+    facing, facing_sigma = shoulder_disparity(body, 0.38 * f / 3.0, True, f, b)
+    assert abs(facing - body) < 1e-6 and facing_sigma > near_sigma
