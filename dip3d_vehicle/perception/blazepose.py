@@ -478,13 +478,15 @@ class BlazePoseEstimator(PoseEstimator):
 
 _NOSE = 0
 """BlazePose's nose landmark (the head of the stop gesture)."""
+_INDEX_FINGER = {"right": 20, "left": 19}
+"""BlazePose's index-finger landmark per arm (the far end of the pointing hand)."""
 
 
 def _extra(pose: PoseLandmarks, arm: str, min_visibility: float = 0.5) -> dict:
-    """Return the head (nose) and the other arm's wrist, pixels, where BlazePose deems them visible."""
+    """Return the head (nose), the other arm's wrist and the pointing hand's index finger, pixels, where visible."""
     other = ARM_INDICES["left" if arm == "right" else "right"][2]
     out = {}
-    for name, i in (("head", _NOSE), ("other_wrist", other)):
+    for name, i in (("head", _NOSE), ("other_wrist", other), ("hand", _INDEX_FINGER[arm])):
         if pose.visibility[i] >= min_visibility:
             out[name] = (float(pose.xy_px[i, 0]), float(pose.xy_px[i, 1]))
     return out

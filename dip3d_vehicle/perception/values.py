@@ -17,9 +17,10 @@ __all__ = ["JOINTS", "EXTRA_JOINTS", "ArmKeypoints", "Candidates", "Arm3D", "Obj
 JOINTS = ("shoulder", "elbow", "wrist")
 """Joint order used in every (3, ...) array."""
 
-EXTRA_JOINTS = ("head", "other_wrist")
-"""Optional joints beyond the pointing arm (for the stop gesture): the head (BlazePose: the nose) and
-the wrist of the other arm."""
+EXTRA_JOINTS = ("head", "other_wrist", "hand")
+"""Optional joints beyond the pointing arm: for the stop gesture the head (BlazePose: the nose) and the
+wrist of the other arm; "hand" = the pointing hand's far end (BlazePose: its index finger), beyond
+which the candidates' region starts (the diver's own fingers are no target)."""
 
 
 @dataclass(frozen=True)
