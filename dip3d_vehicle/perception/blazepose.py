@@ -52,7 +52,7 @@ JOINT_PATCH_M = 0.12
 """Side of the patch matched around an elbow or wrist for ``stereo``, metres at the body's depth (wrist
 disparity error on paper_pool's diver at 3 m: std 0.9 px at 0.12 m, 1.1 at 0.09, 2.2 at 0.06; issue 14)."""
 _OTHER = {"right": "left", "left": "right"}
-ELBOW_FLOOR_FACTOR = np.array([1.0, 2.5, 1.0])
+JOINT_FLOOR_FACTOR = np.array([1.0, 2.5, 1.0])
 """Per joint (shoulder, elbow, wrist): the disparity sigma floor of ``stereo`` in units of
 ``blazepose.disparity_floor_px``. The elbow's landmark sits on the arm's edge and a level arm has
 only row-parallel edges there: on the simulated diver its matched disparity erred by 2-3 px
@@ -399,7 +399,7 @@ class BlazePoseEstimator(PoseEstimator):
             found = self.stereo_joints(left_rect, right_rect, left, rig)
             if found is not None:
                 rxy = np.c_[lxy[:, 0] - found.disparity_px, lxy[:, 1]]
-                sigma = np.maximum(found.sigma_px, self.disparity_floor_px * ELBOW_FLOOR_FACTOR)
+                sigma = np.maximum(found.sigma_px, self.disparity_floor_px * JOINT_FLOOR_FACTOR)
         return ArmKeypoints(self.arm, lxy, rxy, lconf, rconf, source="blazepose", extra_left_px=_extra(left, self.arm),
                             disparity_sigma_px=sigma)
 
