@@ -27,7 +27,8 @@ from ..models import model_path
 from .blazepose_decode import DETECTOR_SIZE, decode, weighted_nms
 from .blazepose_roi import Roi, crop_matrix, letterbox_matrix, roi_from_points, warp
 from .calibration import StereoRig
-from .joint_stereo import match_joint_disparity, subpixel_peak as _subpixel
+from .joint_stereo import (JointDisparity, joint_disparities, match_joint_disparity, shoulder_disparity,
+                           subpixel_peak as _subpixel)
 from .pose import ARM_INDICES, PoseEstimator
 from .values import ArmKeypoints
 
@@ -45,6 +46,17 @@ _HEATMAP_MIN_CONF = 0.5         # ... min_confidence_to_refine
 _SEARCH_POINTS = (0, 11, 12, 13, 14, 15, 16, 23, 24)   # head, arms, hips: template for disparity
 _TEMPLATE_WIDTH_PX = 96         # width of the downscaled template used to find the disparity
 _STRETCH_PERCENT = (1.0, 99.0)  # contrast retry: per-channel percentile stretch
+JOINT_DISPARITY = ("landmarks", "match", "stereo")
+"""Ways of finding the arm joints' right-image x (``blazepose.joint_disparity``)."""
+JOINT_PATCH_M = 0.12
+"""Side of the patch matched around an elbow or wrist for ``stereo``, metres at the body's depth (wrist
+disparity error on paper_pool's diver at 3 m: std 0.9 px at 0.12 m, 1.1 at 0.09, 2.2 at 0.06; issue 14)."""
+_OTHER = {"right": "left", "left": "right"}
+JOINT_FLOOR_FACTOR = np.array([1.0, 2.5, 1.0])
+"""Per joint (shoulder, elbow, wrist): the disparity sigma floor of ``stereo`` in units of
+``blazepose.disparity_floor_px``. The elbow's landmark sits on the arm's edge and a level arm has
+only row-parallel edges there: on the simulated diver its matched disparity erred by 2-3 px
+(median) and 7-12 px (p90) against 0.5-1.5 / 1.3-2.9 px for the wrist (``sitl.arm_eval``, issue 14)."""
 
 Contrast = tuple[np.ndarray, np.ndarray]
 """Per-channel (low, high) levels of a contrast stretch, in the image's channel order."""
@@ -321,12 +333,19 @@ class BlazePoseEstimator(PoseEstimator):
 
     def __init__(self, pose: BlazePose, arm: str = "right", tracking: bool = True,
                  stereo_search: str = "roi", max_disparity_px: float = 400.0,
-                 joint_disparity: str = "landmarks", concurrent_eyes: bool = False) -> None:
+                 joint_disparity: str = "landmarks", concurrent_eyes: bool = False,
+                 disparity_floor_px: float = 1.5) -> None:
         """Wrap a ``BlazePose``; ``stereo_search`` is "roi" (search along rows) or "detect".
 
         ``joint_disparity``: "landmarks" = the right image's landmarks as BlazePose places them;
         "match" = each arm joint's right position found by patch matching along its rectified
-        row around them (``joint_stereo.match_joint_disparity``).
+        row around them (``joint_stereo.match_joint_disparity``); "stereo" = the elbow's and
+        wrist's left patches matched along their rows within the depths an arm reaches from the
+        body (``joint_stereo.joint_disparities``) and the shoulder placed from the torso (the body's
+        disparity, half a shoulder width nearer or farther by the torso's turn,
+        ``joint_stereo.shoulder_disparity``): the right landmarks are not used for depth, and the
+        arm carries each joint's disparity sigma (its own, at least ``disparity_floor_px``), which
+        the pipeline turns into the joints' depth sigma for the selector.
 
         ``concurrent_eyes``: while both eyes are tracked, the right landmark run starts with the
         left one, in a second thread (onnxruntime releases the GIL): its ROI is this frame's left
@@ -345,10 +364,12 @@ class BlazePoseEstimator(PoseEstimator):
         self.tracking = bool(tracking)
         self.stereo_search = stereo_search
         self.max_disparity_px = float(max_disparity_px)
-        if joint_disparity not in ("landmarks", "match"):
-            raise ValueError(f"joint_disparity must be 'landmarks' or 'match', not {joint_disparity!r}")
+        if joint_disparity not in JOINT_DISPARITY:
+            raise ValueError(f"joint_disparity must be one of {', '.join(JOINT_DISPARITY)}, not {joint_disparity!r}")
         self.joint_disparity = joint_disparity
         self.concurrent_eyes = bool(concurrent_eyes)
+        self.disparity_floor_px = float(disparity_floor_px)
+        self._body_disparity_px: float | None = None
         self.stats = StereoStats()
         self.last: tuple[PoseLandmarks | None, PoseLandmarks | None] = (None, None)
         self._left, self._right = _Track(), _Track()
@@ -360,7 +381,8 @@ class BlazePoseEstimator(PoseEstimator):
                    stereo_search=params["blazepose.stereo_search"],
                    max_disparity_px=params["blazepose.max_disparity_px"],
                    joint_disparity=params.get("blazepose.joint_disparity", "landmarks"),
-                   concurrent_eyes=params.get("blazepose.concurrent_eyes", False))
+                   concurrent_eyes=params.get("blazepose.concurrent_eyes", False),
+                   disparity_floor_px=params.get("blazepose.disparity_floor_px", 1.5))
 
     def reset(self) -> None:
         """Forget both cameras' tracking state."""
@@ -368,6 +390,7 @@ class BlazePoseEstimator(PoseEstimator):
 
     def estimate(self, left_rect: np.ndarray, right_rect: np.ndarray, rig: StereoRig) -> ArmKeypoints | None:
         """Return the arm in rectified pixels of both images (confidence = visibility), or None."""
+        self._body_disparity_px = None
         both = self._both_concurrently(left_rect, right_rect, rig.disparity_sign)
         if both is not None and both[0] is not None:
             left, right = both
@@ -383,9 +406,35 @@ class BlazePoseEstimator(PoseEstimator):
         if left is None or right is None:
             return None
         (lxy, lconf), (rxy, rconf) = left.arm(self.arm), right.arm(self.arm)
+        sigma = None
         if self.joint_disparity == "match":
             rxy = match_joint_disparity(left_rect, right_rect, lxy, rxy, rig.disparity_sign)
-        return ArmKeypoints(self.arm, lxy, rxy, lconf, rconf, source="blazepose", extra_left_px=_extra(left, self.arm))
+        elif self.joint_disparity == "stereo":
+            found = self.stereo_joints(left_rect, right_rect, left, rig)
+            if found is not None:
+                rxy = np.c_[lxy[:, 0] - found.disparity_px, lxy[:, 1]]
+                sigma = np.maximum(found.sigma_px, self.disparity_floor_px * JOINT_FLOOR_FACTOR)
+        return ArmKeypoints(self.arm, lxy, rxy, lconf, rconf, source="blazepose", extra_left_px=_extra(left, self.arm),
+                            disparity_sigma_px=sigma)
+
+    def stereo_joints(self, left_rect: np.ndarray, right_rect: np.ndarray, left: PoseLandmarks,
+                      rig: StereoRig) -> JointDisparity | None:
+        """Return the arm joints' disparities: elbow and wrist matched, the shoulder from the torso (None: no body)."""
+        sign = rig.disparity_sign
+        body = self._body_disparity_px
+        if body is None:
+            body = body_disparity(left_rect, right_rect, left, sign, self.max_disparity_px)
+        if body is None:
+            return None
+        xy, _ = left.arm(self.arm)
+        found = joint_disparities(left_rect, right_rect, xy, sign * body, sign, rig.focal_px, rig.baseline_m,
+                                  patch_m=JOINT_PATCH_M)
+        near = left.z_px[ARM_INDICES[self.arm][0]] <= left.z_px[ARM_INDICES[_OTHER[self.arm]][0]]
+        apart = float(np.linalg.norm(left.xy_px[11] - left.xy_px[12]))
+        d, sd = shoulder_disparity(sign * body, apart, bool(near), rig.focal_px, rig.baseline_m)
+        disp, sigma, matched = found.disparity_px.copy(), found.sigma_px.copy(), found.matched.copy()
+        disp[0], sigma[0], matched[0] = d, sd, False
+        return JointDisparity(disp, sigma, matched, found.score)
 
     def _both_concurrently(self, left_img: np.ndarray, right_img: np.ndarray, sign: int
                            ) -> tuple[PoseLandmarks | None, PoseLandmarks | None] | None:
@@ -456,6 +505,7 @@ class BlazePoseEstimator(PoseEstimator):
                      sign: int) -> PoseLandmarks | None:
         """Return the right pose in the left ROI shifted by the body's disparity (None if not found)."""
         disparity = body_disparity(left_img, right_img, left, sign, self.max_disparity_px)
+        self._body_disparity_px = disparity
         if disparity is None:
             return None
         self._tell_early(left, disparity, sign)
@@ -472,6 +522,8 @@ class BlazePoseEstimator(PoseEstimator):
 
 _NOSE = 0
 """BlazePose's nose landmark (the head of the stop gesture)."""
+_INDEX_FINGER = {"right": 20, "left": 19}
+"""BlazePose's index-finger landmark per arm (the far end of the pointing hand)."""
 
 
 def _eye_pool():
@@ -481,10 +533,10 @@ def _eye_pool():
 
 
 def _extra(pose: PoseLandmarks, arm: str, min_visibility: float = 0.5) -> dict:
-    """Return the head (nose) and the other arm's wrist, pixels, where BlazePose deems them visible."""
+    """Return the head (nose), the other arm's wrist and the pointing hand's index finger, pixels, where visible."""
     other = ARM_INDICES["left" if arm == "right" else "right"][2]
     out = {}
-    for name, i in (("head", _NOSE), ("other_wrist", other)):
+    for name, i in (("head", _NOSE), ("other_wrist", other), ("hand", _INDEX_FINGER[arm])):
         if pose.visibility[i] >= min_visibility:
             out[name] = (float(pose.xy_px[i, 0]), float(pose.xy_px[i, 1]))
     return out

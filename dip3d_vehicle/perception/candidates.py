@@ -50,11 +50,12 @@ class CandidateDetector(ABC):
 
 
 def kept_columns(arm: ArmKeypoints | None, side: str, width: int, mask_side: str,
-                 offset_px: float) -> tuple[int, int]:
+                 offset_px: float, hand_px: float = 0.0) -> tuple[int, int]:
     """Return the [x0, x1) column range kept for candidates in one image, pixels.
 
     ``mask_side``: "right" keeps x > wrist + offset (paper), "left" keeps x < wrist - offset,
-    "pointing" picks the side the forearm points to in the left image.
+    "pointing" picks the side the forearm points to in the left image. The offset is at least
+    ``hand_px`` (``hand_extent_px``).
     """
     if arm is None:
         return 0, width
@@ -62,9 +63,31 @@ def kept_columns(arm: ArmKeypoints | None, side: str, width: int, mask_side: str
     if mask_side == "pointing":
         elbow = arm.joint("elbow", "left")
         mask_side = "right" if arm.joint("wrist", "left")[0] >= elbow[0] else "left"
+    offset_px = max(offset_px, hand_px)
     if mask_side == "right":
         return int(np.clip(np.ceil(wrist[0] + offset_px), 0, width)), width
     return 0, int(np.clip(np.floor(wrist[0] - offset_px), 0, width))
+
+
+HAND_LENGTH_M = 0.2
+"""Wrist joint to fingertips of an adult hand, metres (with a glove)."""
+
+
+def hand_extent_px(arm: ArmKeypoints | None, baseline_m: float) -> float:
+    """Return how far (image x, pixels) the pointing hand reaches beyond the wrist, for a neural pose.
+
+    A pose backend that reports the hand (``extra_left_px["hand"]``, BlazePose) places the wrist
+    landmark on the visible wrist, often short of the joint (on the simulated diver by 10-60 px,
+    issue 14): the hand's own features then fall inside the candidates' region and form an object
+    a hand's length beyond the wrist. The extent is ``HAND_LENGTH_M`` at the wrist's depth
+    (focal / depth = disparity / baseline) along the forearm's image direction. 0 without a hand.
+    """
+    if arm is None or "hand" not in (arm.extra_left_px or {}):
+        return 0.0
+    disparity = abs(float(arm.joint("wrist", "left")[0] - arm.joint("wrist", "right")[0]))
+    forearm = arm.joint("wrist", "left") - arm.joint("elbow", "left")
+    across = abs(float(forearm[0])) / max(float(np.linalg.norm(forearm)), 1e-6)
+    return HAND_LENGTH_M * disparity / max(baseline_m, 1e-6) * across
 
 
 def _ratio_keep(pairs, ratio: float) -> tuple[np.ndarray, np.ndarray]:
@@ -282,8 +305,9 @@ class SiftDetector(CandidateDetector):
         """
         t0 = time.perf_counter()
         width = left_rect.shape[1]
-        cols_l = kept_columns(arm, "left", width, self.mask_side, self.mask_offset_px)
-        cols_r = kept_columns(arm, "right", width, self.mask_side, self.mask_offset_px)
+        hand = hand_extent_px(arm, rig.baseline_m)
+        cols_l = kept_columns(arm, "left", width, self.mask_side, self.mask_offset_px, hand)
+        cols_r = kept_columns(arm, "right", width, self.mask_side, self.mask_offset_px, hand)
         ready = self._take_prefetch(left_rect, right_rect, cols_l, cols_r)
         if ready is not None:
             (pl, dl, sl), (pr, dr, _) = ready

@@ -19,7 +19,7 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from .calibration import StereoRig
-from .candidates import match_row_band
+from .candidates import hand_extent_px, match_row_band
 from .threads import shared_pool
 from .values import ArmKeypoints, Candidates
 
@@ -118,7 +118,8 @@ class CorridorDetector:
         """
         t0 = time.perf_counter()
         height, width = left_rect.shape[:2]
-        poly = corridor_polygon(arm, width, height, self.half_angle_rad, self.start_px, self.min_half_width_px)
+        start_px = max(self.start_px, hand_extent_px(arm, rig.baseline_m))  # beyond a neural pose's hand
+        poly = corridor_polygon(arm, width, height, self.half_angle_rad, start_px, self.min_half_width_px)
         self.last_polygon = poly
         if poly is None:
             return Candidates.empty()

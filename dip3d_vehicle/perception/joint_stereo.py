@@ -12,11 +12,14 @@ score stays below ``min_score`` keeps the backend's estimate.
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import cv2
 import numpy as np
 
-__all__ = ["match_joint_disparity", "subpixel_peak"]
+__all__ = ["match_joint_disparity", "subpixel_peak", "joint_disparities", "JointDisparity", "reach_disparities",
+           "shoulder_disparity", "SHOULDER_WIDTH_M",
+           "ARM_REACH_M"]
 
 
 def _grey(patch: np.ndarray) -> np.ndarray:
@@ -72,3 +75,152 @@ def match_joint_disparity(left: np.ndarray, right: np.ndarray, left_xy: np.ndarr
             continue
         out[k] = (x0 + half_px + subpixel_peak(scores, best) + (xl - x), yl)
     return out
+
+
+ARM_REACH_M = 0.8
+"""How far (depth, metres) an arm joint can lie in front of or behind the body's depth plane."""
+
+_FLAT_SCORE = 0.01
+"""Disparities scoring within this of the best NCC are as good as the best (their span is the sigma; with
+0.05 the wrist's sigma on the simulated diver was 3-10 times its error, issue 14)."""
+
+
+@dataclass(frozen=True)
+class JointDisparity:
+    """Each joint's disparity x_left - x_right (pixels), its one-sigma error and whether it was matched.
+
+    Attributes:
+        disparity_px: (N,) disparities.
+        sigma_px: (N,) one-sigma error: the half-span of the disparities whose score is within
+            ``_FLAT_SCORE`` of the best (a flat or double peak gives a wide one: an arm held level
+            has only row-parallel edges); for an unmatched joint the body's disparity with a
+            quarter of the arm's reachable span.
+        matched: (N,) True where the patch match passed its checks.
+        score: (N,) the best normalised cross-correlation (NaN where none was computed).
+    """
+
+    disparity_px: np.ndarray
+    sigma_px: np.ndarray
+    matched: np.ndarray
+    score: np.ndarray
+
+
+def reach_disparities(body_disparity_px: float, focal_baseline_px_m: float,
+                      reach_m: float = ARM_REACH_M, min_depth_m: float = 0.3) -> tuple[float, float]:
+    """Return the (smallest, largest) disparity magnitude of a point within ``reach_m`` of the body's depth."""
+    depth = focal_baseline_px_m / max(abs(body_disparity_px), 1e-6)
+    return focal_baseline_px_m / (depth + reach_m), focal_baseline_px_m / max(depth - reach_m, min_depth_m)
+
+
+def _scores_along_row(template: np.ndarray, image: np.ndarray, y: int, x0: int, x1: int, half: int) -> np.ndarray:
+    """Return NCC scores of ``template`` centred at columns x0..x1-1 of row ``y`` of ``image``."""
+    strip = _grey(image[y - half:y + half + 1, x0 - half:x1 + half])
+    return cv2.matchTemplate(strip, template, cv2.TM_CCOEFF_NORMED)[0]
+
+
+def _match_one(left: np.ndarray, right: np.ndarray, x: int, y: int, d_lo: float, d_hi: float, sign: int,
+               half: int, min_score: float, lr_tolerance_px: float) -> tuple[float, float, float] | None:
+    """Return (disparity magnitude, sigma, score) of one left pixel's match along its row, or None."""
+    h, w = left.shape[:2]
+    if not (half <= y < h - half and half <= x < w - half):
+        return None
+    template = _grey(left[y - half:y + half + 1, x - half:x + half + 1])
+    if float(template.std()) < 2.0:
+        return None
+    # right-image centres x - sign * d for d in [d_lo, d_hi]
+    xa, xb = sorted((x - sign * int(math.ceil(d_hi)) - 1, x - sign * int(math.floor(d_lo)) + 1))
+    xa, xb = max(xa, half), min(xb + 1, w - half)
+    if xb - xa < 3:
+        return None
+    scores = _scores_along_row(template, right, y, xa, xb, half)
+    k = int(np.argmax(scores))
+    if scores[k] < min_score or k in (0, len(scores) - 1):
+        return None  # too weak, or the best lies at the edge of the reachable span (outside it)
+    xr = xa + subpixel_peak(scores, k)
+    good = np.nonzero(scores >= scores[k] - _FLAT_SCORE)[0]
+    sigma = max(0.5, 0.5 * float(good.max() - good.min()))
+    # left-right check: the right patch found back in the left image near x
+    back = _grey(right[y - half:y + half + 1, int(round(xr)) - half:int(round(xr)) + half + 1])
+    if back.shape != template.shape or float(back.std()) < 2.0:
+        return None
+    span = int(math.ceil(lr_tolerance_px)) + 3
+    la, lb = max(x - span, half), min(x + span + 1, w - half)
+    back_scores = _scores_along_row(back, left, y, la, lb, half)
+    kb = int(np.argmax(back_scores))
+    if abs(la + kb - x) > lr_tolerance_px + 0.5:
+        return None
+    return float(sign * (x - xr)), sigma, float(scores[k])
+
+
+def joint_disparities(left: np.ndarray, right: np.ndarray, left_xy: np.ndarray, body_disparity_px: float,
+                      sign: int, focal_px: float, baseline_m: float, patch_m: float = 0.12, min_score: float = 0.6,
+                      lr_tolerance_px: float = 1.5) -> JointDisparity:
+    """Return the joints' disparities by matching each left joint's patch along its rectified row.
+
+    The search covers the disparities of depths within ``ARM_REACH_M`` of the body's (from
+    ``body_disparity_px``, x_left - x_right); the patch is about ``patch_m`` wide at the body's
+    depth (9-49 px). A match counts when its score reaches ``min_score``, its peak is inside the
+    searched span and the right patch found back in the left image lands within
+    ``lr_tolerance_px`` of the joint. Otherwise the joint takes the body's disparity with a sigma
+    of a quarter of the reachable span.
+
+    Args:
+        left, right: rectified images.
+        left_xy: (N, 2) joints in the left image, pixels.
+        body_disparity_px: the body's disparity x_left - x_right, pixels.
+        sign: the rig's disparity sign (+1: the right image's content lies to the left).
+        focal_px, baseline_m: the rectified rig's focal length (pixels) and baseline (metres).
+    """
+    d_lo, d_hi = reach_disparities(body_disparity_px, focal_px * baseline_m)
+    depth = focal_px * baseline_m / max(abs(body_disparity_px), 1e-6)
+    half = int(np.clip(round(0.5 * patch_m * focal_px / depth), 4, 24))
+    n = len(left_xy)
+    disp = np.full(n, float(body_disparity_px))
+    sigma = np.full(n, max(0.25 * (d_hi - d_lo), 0.5))
+    matched = np.zeros(n, bool)
+    score = np.full(n, np.nan)
+    for k, (xl, yl) in enumerate(np.asarray(left_xy, float)):
+        if not (math.isfinite(xl) and math.isfinite(yl)):
+            continue
+        found = _match_one(left, right, int(round(xl)), int(round(yl)), d_lo, d_hi, sign, half, min_score,
+                           lr_tolerance_px)
+        if found is None:
+            continue
+        mag, sig, sc = found
+        disp[k] = sign * mag
+        sigma[k], matched[k], score[k] = sig, True, sc
+    return JointDisparity(disp, sigma, matched, score)
+
+
+
+SHOULDER_WIDTH_M = (0.38, 0.03)
+"""Distance between the two shoulder joint centres of an adult, metres: (typical, one sigma)."""
+
+
+def shoulder_disparity(body_disparity_px: float, shoulders_apart_px: float, near: bool, focal_px: float,
+                       baseline_m: float, body_sigma_px: float = 0.5, landmark_sigma_px: float = 8.0,
+                       width_m: tuple[float, float] = SHOULDER_WIDTH_M) -> tuple[float, float]:
+    """Return the pointing shoulder's disparity (x_left - x_right, pixels) and its sigma from a torso model.
+
+    A shoulder's own patch holds little it can be matched by (a round, evenly shaded blob) and, seen
+    from the side, the neck and the back behind it, which lie at the torso's centre: matched, it
+    comes out at the torso's depth. Here the torso's centre is at the body's disparity and the
+    shoulders lie half a shoulder width to either side of it: their image separation gives the
+    torso's turn (|cos| = separation x depth / (focal x width)), so the shoulder is nearer (``near``)
+    or farther than the centre by (width / 2) x sin(turn).
+    """
+    fb = focal_px * baseline_m
+    depth = fb / max(abs(body_disparity_px), 1e-6)
+    width, width_sigma = width_m
+    cos_turn = float(np.clip(shoulders_apart_px * depth / (focal_px * width), 0.0, 1.0))
+    sin_turn = math.sqrt(1.0 - cos_turn ** 2)
+    offset = 0.5 * width * sin_turn * (-1.0 if near else 1.0)
+    # the width varies between people; near a frontal view sin is sensitive to the landmarks' error
+    cos_sigma = math.sqrt(2.0) * landmark_sigma_px * depth / (focal_px * width)
+    sin_sigma = min(1.0, cos_sigma * cos_turn / max(sin_turn, 0.3))
+    offset_sigma = math.hypot(0.5 * width_sigma * sin_turn, 0.5 * width * sin_sigma)
+    shoulder_depth = max(depth + offset, 0.1)
+    sign = 1.0 if body_disparity_px >= 0 else -1.0
+    disparity = sign * fb / shoulder_depth
+    sigma = math.hypot(body_sigma_px * (depth / shoulder_depth) ** 2, fb / shoulder_depth ** 2 * offset_sigma)
+    return disparity, sigma

@@ -247,17 +247,20 @@ class Perception:
         return PerceptionResult("ok", "", arm, arm3d, cands, xyz, sel, tm)
 
     def triangulate_arm(self, arm: ArmKeypoints, prior_sigma_px: float | None = None) -> Arm3D:
-        """Triangulate the three joints; depth sigma from this frame's keypoint noise (metres).
+        """Triangulate the three joints; depth sigma from this frame's keypoint noise or the estimator's (metres).
 
         ``prior_sigma_px`` replaces ``selection.keypoint_sigma_px`` as the noise prior (an arm
-        averaged over frames has less).
+        averaged over frames has less); the estimator's own per-joint disparity sigma, where it is
+        larger, is kept as it is (it holds systematic errors that do not average).
         """
         disp = arm.left_px[:, 0] - arm.right_px[:, 0]
         rows = (arm.left_px[:, 1] + arm.right_px[:, 1]) / 2.0
         xyz = triangulate(self.Q, np.c_[arm.left_px[:, 0], rows], disp)
         prior = self.params["selection.keypoint_sigma_px"] if prior_sigma_px is None else prior_sigma_px
-        noise_px = keypoint_noise_px(arm, prior)
-        sigma = self.rig.depth_sigma_m(np.abs(xyz[:, 2]), math.sqrt(2.0) * noise_px)
+        disparity_sigma_px = math.sqrt(2.0) * keypoint_noise_px(arm, prior)
+        if arm.disparity_sigma_px is not None:  # the estimator's own per-joint figure, where it is larger
+            disparity_sigma_px = np.maximum(disparity_sigma_px, np.asarray(arm.disparity_sigma_px, dtype=float))
+        sigma = self.rig.depth_sigma_m(np.abs(xyz[:, 2]), disparity_sigma_px)
         return Arm3D(xyz, np.asarray(sigma, dtype=float))
 
 

@@ -17,9 +17,10 @@ __all__ = ["JOINTS", "EXTRA_JOINTS", "ArmKeypoints", "Candidates", "Arm3D", "Obj
 JOINTS = ("shoulder", "elbow", "wrist")
 """Joint order used in every (3, ...) array."""
 
-EXTRA_JOINTS = ("head", "other_wrist")
-"""Optional joints beyond the pointing arm (for the stop gesture): the head (BlazePose: the nose) and
-the wrist of the other arm."""
+EXTRA_JOINTS = ("head", "other_wrist", "hand")
+"""Optional joints beyond the pointing arm: for the stop gesture the head (BlazePose: the nose) and the
+wrist of the other arm; "hand" = the pointing hand's far end (BlazePose: its index finger), beyond
+which the candidates' region starts (the diver's own fingers are no target)."""
 
 
 @dataclass(frozen=True)
@@ -35,6 +36,9 @@ class ArmKeypoints:
         source: which estimator produced them (e.g. "keypoints-file", "blazepose", "sim-truth").
         extra_left_px: optional ``EXTRA_JOINTS`` seen in the rectified left image, by name (x, y);
             absent names were not given or not seen.
+        disparity_sigma_px: optional (3,) one-sigma error of each joint's disparity (x_left -
+            x_right) as the estimator measured it, pixels; None = unknown (the pipeline then uses
+            the keypoints' epipolar residuals and ``selection.keypoint_sigma_px``).
     """
 
     arm: str
@@ -44,6 +48,7 @@ class ArmKeypoints:
     right_conf: np.ndarray
     source: str = ""
     extra_left_px: dict = field(default_factory=dict)
+    disparity_sigma_px: np.ndarray | None = None
 
     def joint(self, name: str, side: str = "left") -> np.ndarray:
         """Return one joint's (x, y) in the rectified ``side`` image, pixels."""

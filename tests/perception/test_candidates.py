@@ -35,6 +35,21 @@ def test_mask_keeps_the_side_the_arm_points_to():
     assert kept_columns(None, "left", 1600, "right", 40.0) == (0, 1600)
 
 
+def test_a_neural_poses_hand_moves_the_region_a_hand_length_beyond_the_wrist():
+    """With a reported hand (BlazePose) the region starts 0.2 m (at the wrist's depth) past the wrist."""
+    from dataclasses import replace
+
+    from dip3d_vehicle.perception.candidates import hand_extent_px
+
+    arm = arm_at(500.0, 400.0)                      # disparity 10 px, baseline 1.2 cm: f / Z = 833 px per metre
+    assert hand_extent_px(arm, 0.012) == 0.0        # truth / keypoint files: no hand, no change
+    with_hand = replace(arm, extra_left_px={"hand": (520.0, 100.0)})
+    hand = hand_extent_px(with_hand, 0.012)
+    assert abs(hand - 0.2 * 10 / 0.012) < 1e-9      # a level forearm: the whole 0.2 m across the image
+    assert kept_columns(with_hand, "left", 1600, "pointing", 40.0, hand) == (667, 1600)
+    assert kept_columns(with_hand, "left", 1600, "pointing", 40.0, hand_extent_px(with_hand, 0.12)) == (540, 1600)
+
+
 def _features(n: int, seed: int):
     """Return (left pts, left desc, right pts, right desc) of n true matches at random rows, disparity 20-60."""
     rng = np.random.default_rng(seed)

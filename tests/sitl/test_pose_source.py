@@ -57,3 +57,24 @@ def test_blazepose_source_finds_the_rendered_divers_arm_near_the_truth():
         t = np.array([truth[side][j] for j in ("shoulder", "elbow", "wrist")])
         err = np.linalg.norm(orig - t, axis=1)
         assert err.max() < 40, f"{side}: {err}"
+
+
+def test_blazepose_stereo_joints_give_the_arms_depth_with_a_sigma():
+    """``joint_disparity: stereo`` on the rendered body: each joint's disparity within its reported
+    sigma (3 sigma, at least the floor) of the truth's, the shoulder from the torso, the right rows = the left."""
+    sc, frame = _frame(seed=2, t=1.4)
+    rig = sc.rig()
+    params = sim_params(load_params(overrides={"sitl.pose_source": "blazepose",
+                                               "blazepose.joint_disparity": "stereo"}), sc)
+    pose = SimPose(params)
+    left, right = rig.rectify(frame.left, frame.right)
+    arm = pose.estimate(left, right, rig)
+    assert arm is not None and arm.disparity_sigma_px is not None
+    assert np.all(arm.disparity_sigma_px >= params["blazepose.disparity_floor_px"])
+    assert np.allclose(arm.right_px[:, 1], arm.left_px[:, 1])
+    truth = frame.meta["keypoints_truth"]
+    t = {side: rig.to_rectified(np.array([truth[side][j] for j in ("shoulder", "elbow", "wrist")]), side)
+         for side in ("left", "right")}
+    err = (arm.left_px[:, 0] - arm.right_px[:, 0]) - (t["left"][:, 0] - t["right"][:, 0])
+    assert np.all(np.abs(err) <= 3.0 * arm.disparity_sigma_px), (err, arm.disparity_sigma_px)
+    assert abs(err[0]) < 2.0, "the shoulder from the torso, not the neck behind it"
