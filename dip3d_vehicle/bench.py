@@ -53,6 +53,7 @@ from .perception.keypoints_file import GivenKeypoints
 from .perception.pipeline import Perception, make_pose_estimator
 from .perception.pose import PoseEstimator
 from .perception.values import ArmKeypoints
+from .run_memory import proc_status_mib
 from .worker import CameraFeed, PerceptionWorker
 
 __all__ = ["BenchPose", "BenchFrames", "simulated_frames", "folder_frames", "run_profile", "run_bench",
@@ -258,6 +259,7 @@ def _pct(values: Iterable[float], q: float) -> float | None:
     arr = np.asarray(list(values), float)
     return None if arr.size == 0 else round(float(np.percentile(arr, q)), 2)
 
+    return None
 
 class _PeakMemory:
     """Peak RSS (VmHWM) while a block runs, reset before it where Linux allows; MiB."""
@@ -267,14 +269,7 @@ class _PeakMemory:
 
     @staticmethod
     def _status(key: str) -> float | None:
-        try:
-            with open("/proc/self/status") as f:
-                for line in f:
-                    if line.startswith(key + ":"):
-                        return int(line.split()[1]) / 1024.0
-        except OSError:
-            return None
-        return None
+        return proc_status_mib(key)
 
     def __enter__(self) -> "_PeakMemory":
         gc.collect()

@@ -76,16 +76,21 @@ def child_main(argv: Sequence[str]) -> int:
     return code
 
 
-def _status_mib(key: str) -> float:
-    """Return a ``/proc/self/status`` memory field in MiB (NaN where there is none)."""
+def proc_status_mib(key: str) -> float | None:
+    """Return a ``/proc/self/status`` memory field (VmRSS, VmHWM, ...) in MiB, or None where there is none."""
     try:
         with open("/proc/self/status") as f:
             for line in f:
                 if line.startswith(key + ":"):
                     return int(line.split()[1]) / 1024.0
     except OSError:
-        pass
-    return float("nan")
+        return None
+
+
+def _status_mib(key: str) -> float:
+    """Return a ``/proc/self/status`` memory field in MiB (NaN where there is none)."""
+    value = proc_status_mib(key)
+    return float("nan") if value is None else value
 
 
 def run_memory(frames: Sequence, rig, profiles: Sequence[str] = ("default", "fast"), rate_hz: float = 15.0) -> dict:

@@ -462,14 +462,21 @@ class Simulation:
             _, observation, obs_meta = pending.pop(0)
         return observation, obs_meta
 
-    def _capture(self, now: float):
-        """Render the frame the camera sees now and process it (None while perception is stalled)."""
+    def _render_now(self, now: float):
+        """Render the frame the camera sees now (kept and logged); None while perception is stalled."""
         s = self.ap.state
         frame = self.renderer.render(s.north_m, s.east_m, s.depth_m, s.yaw_rad, now)
         self.last_frame, self.last_meta = frame, frame.meta
         if self.log is not None:
             self.log.images(frame.index, frame.left, frame.right)
         if self.fault_at_s is not None and self.fault.kind == "perception_stall":
+            return None
+        return frame
+
+    def _capture(self, now: float):
+        """Render the frame the camera sees now and process it (None while perception is stalled)."""
+        frame = self._render_now(now)
+        if frame is None:
             return None
         need = self.mission.needs
         roi = self.mission.track_roi(self.rig, self.scenario.camera.image_size) if need == "track" else None

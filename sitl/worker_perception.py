@@ -45,14 +45,9 @@ class WorkerPerception:
 
     def _capture(self, now: float) -> None:
         """Render the frame the camera sees now and hand it to the worker (nothing is delivered here)."""
-        s = self.ap.state
-        frame = self.renderer.render(s.north_m, s.east_m, s.depth_m, s.yaw_rad, now)
-        self.last_frame, self.last_meta = frame, frame.meta
-        if self.log is not None:
-            self.log.images(frame.index, frame.left, frame.right)
-        if self.fault_at_s is not None and self.fault.kind == "perception_stall":
-            return None
-        self._worker().submit(frame, now)
+        frame = self._render_now(now)
+        if frame is not None:
+            self._worker().submit(frame, now)
         return None
 
     def _deliver(self, now: float, pending: list) -> tuple[Any, dict | None]:
