@@ -517,7 +517,8 @@ class BlazePoseEstimator(PoseEstimator):
             return
         xy, conf = left.arm(self.arm)
         right_xy = xy - np.array([sign * disparity_px, 0.0])
-        self._early_listener(ArmKeypoints(self.arm, xy, right_xy, conf, conf, source="blazepose (right predicted)"))
+        self._early_listener(ArmKeypoints(self.arm, xy, right_xy, conf, conf, source="blazepose (right predicted)",
+                                          extra_left_px=_extra(left, self.arm)))
 
 
 _NOSE = 0

@@ -199,6 +199,9 @@ def test_early_arm_listener_gets_the_left_arm_and_the_predicted_right_one(pose, 
     assert calls_then == calls + 1, "told after the left landmarks, before the right ones"
     assert np.array_equal(hint.left_px, arm.left_px)
     assert np.allclose(hint.right_px, arm.right_px, atol=12.0)
+    # the hand too: the corridor started from the early arm begins beyond it (without it the
+    # diver's own fingers became an object on the bench frames: default 95 -> 116 of 120 with it)
+    assert hint.extra_left_px == arm.extra_left_px
     est.set_early_arm_listener(None)
     est.estimate(left, right, _rig(left.shape[1], left.shape[0]))
     assert len(heard) == 1
