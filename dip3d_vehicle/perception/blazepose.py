@@ -324,6 +324,8 @@ class StereoStats:
     tracked: int = 0
     detected: int = 0
     concurrent: int = 0
+    matched: int = 0
+    """frames whose right-image arm came from the stereo joint matches alone (no right landmark run)"""
 
 
 class BlazePoseEstimator(PoseEstimator):
@@ -391,7 +393,9 @@ class BlazePoseEstimator(PoseEstimator):
     def estimate(self, left_rect: np.ndarray, right_rect: np.ndarray, rig: StereoRig) -> ArmKeypoints | None:
         """Return the arm in rectified pixels of both images (confidence = visibility), or None."""
         self._body_disparity_px = None
-        both = self._both_concurrently(left_rect, right_rect, rig.disparity_sign)
+        both = None
+        if not (self.joint_disparity == "stereo" and not self.concurrent_eyes):
+            both = self._both_concurrently(left_rect, right_rect, rig.disparity_sign)
         if both is not None and both[0] is not None:
             left, right = both
             self._left.update(left, self.tracking)
@@ -399,6 +403,10 @@ class BlazePoseEstimator(PoseEstimator):
             left = self.pose.process(left_rect) if both is not None else self._follow(left_rect, self._left)
             self._left.update(left, self.tracking)
             right = None
+            if left is not None and self.joint_disparity == "stereo" and not self.concurrent_eyes:
+                matched = self._matched(left_rect, right_rect, left, rig)
+                if matched is not None:
+                    return matched
             if left is not None:
                 right = self._right_pose(left_rect, right_rect, left, rig.disparity_sign)
         self._right.update(right, self.tracking)
@@ -416,6 +424,31 @@ class BlazePoseEstimator(PoseEstimator):
                 sigma = np.maximum(found.sigma_px, self.disparity_floor_px * JOINT_FLOOR_FACTOR)
         return ArmKeypoints(self.arm, lxy, rxy, lconf, rconf, source="blazepose", extra_left_px=_extra(left, self.arm),
                             disparity_sigma_px=sigma)
+
+    def _matched(self, left_rect: np.ndarray, right_rect: np.ndarray, left: PoseLandmarks,
+                 rig: StereoRig) -> ArmKeypoints | None:
+        """Return the arm from the left landmarks and the stereo joint matches, with no right landmark run.
+
+        With ``joint_disparity="stereo"`` the right landmarks set no depth: the right eye's arm is
+        the left one moved by each joint's matched disparity (right confidence = left), and the
+        right landmark run is skipped. None when the body's disparity cannot be measured (the
+        caller then runs the right landmarks, as "landmarks" does).
+        """
+        sign = rig.disparity_sign
+        body = body_disparity(left_rect, right_rect, left, sign, self.max_disparity_px)
+        if body is None:
+            return None
+        self._body_disparity_px = body
+        self._tell_early(left, body, sign)
+        found = self.stereo_joints(left_rect, right_rect, left, rig)
+        self.stats.matched += 1
+        self._right.update(None, self.tracking)
+        self.last = (left, None)
+        lxy, lconf = left.arm(self.arm)
+        rxy = np.c_[lxy[:, 0] - found.disparity_px, lxy[:, 1]]
+        sigma = np.maximum(found.sigma_px, self.disparity_floor_px * JOINT_FLOOR_FACTOR)
+        return ArmKeypoints(self.arm, lxy, rxy, lconf, lconf.copy(), source="blazepose",
+                            extra_left_px=_extra(left, self.arm), disparity_sigma_px=sigma)
 
     def stereo_joints(self, left_rect: np.ndarray, right_rect: np.ndarray, left: PoseLandmarks,
                       rig: StereoRig) -> JointDisparity | None:

@@ -185,6 +185,40 @@ def test_stereo_roi_search_finds_shifted_pose(pose, photos, disparity):
     assert np.allclose(arm.left_px - arm.right_px, [[disparity, 0]] * 3, atol=2.0)
 
 
+@pytest.mark.parametrize("disparity", [23, 71])
+def test_stereo_joints_skip_the_right_landmark_run(pose, photos, disparity):
+    """With joint_disparity "stereo" the right landmarks set no depth: one landmark run per frame."""
+    folder, _ = photos
+    left = cv2.imread(str(folder / "000000000785.jpg"))
+    right = np.ascontiguousarray(np.roll(left, -disparity, axis=1))
+    est = BlazePoseEstimator(pose, stereo_search="roi", tracking=True, joint_disparity="stereo")
+    rig = _rig(left.shape[1], left.shape[0])
+    heard = []
+    est.set_early_arm_listener(heard.append)
+    assert est.estimate(left, right, rig) is not None  # detection frame
+    calls = pose.landmark_calls
+    arm = est.estimate(left, right, rig)
+    assert pose.landmark_calls == calls + 1, "the left landmarks only"
+    assert est.stats.matched == 2 and est.stats.searched == 0 and len(heard) == 2
+    assert arm.disparity_sigma_px is not None and np.array_equal(arm.right_conf, arm.left_conf)
+    assert np.allclose(arm.right_px[:, 1], arm.left_px[:, 1])
+    assert np.allclose(arm.left_px[1:, 0] - arm.right_px[1:, 0], disparity, atol=1.5)  # elbow, wrist matched
+
+
+def test_stereo_joints_fall_back_to_the_right_landmarks_without_a_body_disparity(pose, photos, monkeypatch):
+    import dip3d_vehicle.perception.blazepose as bp
+
+    folder, _ = photos
+    left = cv2.imread(str(folder / "000000000785.jpg"))
+    right = np.ascontiguousarray(np.roll(left, -40, axis=1))
+    monkeypatch.setattr(bp, "body_disparity", lambda *args: None)
+    est = BlazePoseEstimator(pose, stereo_search="roi", tracking=False, joint_disparity="stereo")
+    calls = pose.landmark_calls
+    arm = est.estimate(left, right, _rig(left.shape[1], left.shape[0]))
+    assert arm is not None and est.stats.matched == 0
+    assert pose.landmark_calls >= calls + 2, "the right image's own landmarks"
+
+
 def test_early_arm_listener_gets_the_left_arm_and_the_predicted_right_one(pose, photos):
     folder, _ = photos
     left = cv2.imread(str(folder / "000000000785.jpg"))
