@@ -114,7 +114,7 @@ def group_objects(candidates: Candidates, xyz_m: np.ndarray, rig: StereoRig, rad
     labels = _components(n, pairs)
     Q = normalize_q(rig.Q, rig.disparity_sign)
     groups = [np.nonzero(labels == k)[0] for k in range(labels.max() + 1)]
-    centres = np.array([_centre(candidates, Q, g)[1] for g in groups])
+    centres = _centres(candidates, Q, groups)
     ok = np.all(np.isfinite(centres), axis=1)
     if ok.sum() > 1:
         idx = np.nonzero(ok)[0]
@@ -143,6 +143,19 @@ def _components(n: int, pairs: np.ndarray) -> np.ndarray:
         return np.arange(n)
     graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(n, n))
     return connected_components(graph, directed=False)[1]
+
+
+def _centres(candidates: Candidates, Q: np.ndarray, groups: list[np.ndarray]) -> np.ndarray:
+    """Return the triangulated centre of every group (as ``_centre``, single features without a median), metres."""
+    px = np.empty((len(groups), 2))
+    disp = np.empty(len(groups))
+    all_disp = candidates.disparity_px
+    for k, g in enumerate(groups):
+        if len(g) == 1:
+            px[k], disp[k] = candidates.left_px[g[0]], all_disp[g[0]]
+        else:
+            px[k], disp[k] = np.median(candidates.left_px[g], axis=0), np.median(all_disp[g])
+    return triangulate(Q, px, disp) if len(groups) else np.zeros((0, 3))
 
 
 def _centre(candidates: Candidates, Q: np.ndarray, members: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
