@@ -35,6 +35,8 @@ def test_report_has_every_profile_metric(tiny_report):
     assert tiny_report["profiles"]["fast"]["pose_settings"]["tracking"] is True
     follow = tiny_report["profiles"]["fast+follow2bg"]["follow"]
     assert follow["keyframe_interval"] == 2 and follow["keyframes"] >= 1
+    assert follow["paced_hz"] == 10.0, "background keyframes get the frames at their camera rate"
+    assert tiny_report["profiles"]["fast"]["follow"]["paced_hz"] == 10.0  # fast: follow.background true
     assert follow["keyframes"] + follow["followed"] + follow["lost"] >= 2
 
 
