@@ -11,7 +11,10 @@ straight arm, and the object must lie AHEAD of the wrist and near the ray from t
 through the wrist (measured from the shoulder: seen from the wrist, a few degrees of pointing
 error become tens of degrees for an object close to the hand). "Near" is a miss distance in
 metres to points spread over the object, sigma = hypot(pointing_sigma * distance, tolerance),
-averaged over the object's points (the diver points at some part of the object, not its centre). The fit's
+averaged over the object's points (the diver points at some part of the object, not its centre). A pose
+model that places its landmarks off the joints' centres (``ArmKeypoints.keypoint_sigma_m``, BlazePose
+~5 cm at the body) widens the limb lengths, the bend and the pointing sigma by that error: at 5 m an
+arm seen foreshortened says little about its tilt, and the fit must not pretend otherwise. The fit's
 cost becomes a posterior over objects: confidence = posterior of the best, ambiguity margin =
 difference in log-likelihood between the best and the second best.
 """
