@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 from behaviours.blackboard import Observation, StatusText
+from behaviours.fusion import PointFusion
 from behaviours.close_in import horizontal_range_m, path_clearance_m, plan_close_in
 from behaviours.loop import build_mission
 from behaviours.second_look import _in_view
@@ -38,25 +39,27 @@ def _project(xyz: np.ndarray) -> np.ndarray:
     return np.c_[F_PX * xyz[:, 0] / xyz[:, 2] + PP_PX[0], F_PX * xyz[:, 1] / xyz[:, 2] + PP_PX[1]]
 
 
-def _arm(shoulder: np.ndarray, raised: bool = True) -> tuple[ArmKeypoints, Arm3D]:
+def _arm(shoulder: np.ndarray, raised: bool = True, keypoint_sigma_m: float | None = None) -> tuple[ArmKeypoints, Arm3D]:
     """An arm pointing toward the camera's right (raised) or hanging down."""
     direction = np.array([0.5, 0.2, -0.84]) if raised else np.array([0.1, 1.0, 0.0])
     direction /= np.linalg.norm(direction)
     xyz = np.array([shoulder, shoulder + 0.3 * direction, shoulder + 0.58 * direction])
     left = _project(xyz)
-    arm = ArmKeypoints("right", left, left - [F_PX * 0.12 / xyz[0, 2], 0.0], np.ones(3), np.ones(3))
+    arm = ArmKeypoints("right", left, left - [F_PX * 0.12 / xyz[0, 2], 0.0], np.ones(3), np.ones(3),
+                       keypoint_sigma_m=keypoint_sigma_m)
     return arm, Arm3D(xyz, np.full(3, 0.3))
 
 
-def _frame(shoulder=FAR_SHOULDER, raised: bool = True) -> PerceptionResult:
+def _frame(shoulder=FAR_SHOULDER, raised: bool = True, scores=(0.45, 0.42), none_p: float = 0.13,
+           keypoint_sigma_m: float | None = None) -> PerceptionResult:
     """Two placards one behind the other along the arm, neither clearly pointed at (as at 5 m)."""
-    arm, arm3d = _arm(np.asarray(shoulder, float), raised)
-    where = [np.array([0.5, 0.1, 2.0]), np.array([0.45, 0.1, 3.0])]
-    objs = tuple(ObjectCandidate(_project(p[None])[0], p, 0.02, (0, 1, 2)) for p in where)
-    scores = np.array([0.45, 0.42])
+    arm, arm3d = _arm(np.asarray(shoulder, float), raised, keypoint_sigma_m)
+    where = [np.array([0.5, 0.1, 2.0]), np.array([0.45, 0.1, 3.0]), np.array([0.55, 0.15, 1.3])]
+    scores = np.asarray(scores, float)
+    objs = tuple(ObjectCandidate(_project(p[None])[0], p, 0.02, (0, 1, 2)) for p in where[:len(scores)])
     cands = Candidates(np.zeros((3, 2)), np.zeros((3, 2)), np.random.default_rng(0).random((3, 128), np.float32),
                        np.zeros(3))
-    sel = Selection(0, objs, scores, 0.45, math.inf, "default", True, 0.13)
+    sel = Selection(0, objs, scores, float(scores[0]), math.inf, "default", scores[0] < 0.6, none_p)
     return PerceptionResult("ok", "", arm, arm3d, cands, np.array([[0.0, 0.0, 3.0]] * 3), sel)
 
 
@@ -181,3 +184,22 @@ def test_closing_in_without_a_plan_does_not_move(rig):
         fired += _feed(m, [_frame()], t0=i * FRAME_S)
         cmds.append(m.bb.command)
     assert fired.index("closer") == 2 and all(c is None for c in cmds)  # after the settle time, 0.6 s
+
+
+# ----------------------------------------------------------------------------- frames sharing the pose's error
+def test_a_steady_lean_of_a_pose_with_its_own_error_is_not_made_certain_by_repetition():
+    lean = dict(scores=(0.47, 0.22, 0.16), none_p=0.15)  # far_diver seed 5 at 4.5 m: a wrong placard, frame after frame
+    shared, independent = PointFusion(0.3), PointFusion(0.3)
+    for _ in range(20):
+        shared.add(_frame(keypoint_sigma_m=0.05, **lean), 0.0)
+        independent.add(_frame(**lean), 0.0)
+    assert independent.decide(0.9, 3).kind == "object"  # the frames' noise taken as independent: decided
+    d = shared.decide(0.9, 3)
+    assert shared.shared_error and d.kind == "undecided" and "counted as one" in d.reason
+    assert d.posterior[d.best] >= 0.9  # the tempered product alone would have decided
+    clear = PointFusion(0.3)
+    for _ in range(6):  # frames that each favour one object on their own still decide
+        clear.add(_frame(keypoint_sigma_m=0.05, scores=(0.75, 0.1), none_p=0.15), 0.0)
+    assert clear.decide(0.9, 3).kind == "object"
+    clear.reset()
+    assert not clear.shared_error and clear.frames == []
