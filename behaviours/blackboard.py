@@ -19,6 +19,7 @@ from dip3d_vehicle.servo.ibvs import PointServo, ServoErrors
 
 from .evidence import Vote
 from .fusion import FusedDecision, PointFusion
+from .close_in import CloseInStep
 from .second_look import LookStep
 from .tracker import TargetTracker, TrackedTarget
 
@@ -82,12 +83,19 @@ class BehaviourConfig:
     fusion_no_objects_none_p: float = 0.8
     fusion_max_effective_frames: float = 4.0
     fusion_arm_frames: int = 4
+    fusion_min_shared_posterior: float = 0.5
     second_look_max_tries: int = 1
     second_look_step_m: float = 0.4
     second_look_speed_m_s: float = 0.15
     second_look_settle_s: float = 1.0
     second_look_min_p: float = 0.15
     second_look_margin_px: float = 80.0
+    decide_max_range_m: float = 3.5
+    close_in_max_tries: int = 1
+    close_in_speed_m_s: float = 0.15
+    close_in_standoff_m: float = 2.0
+    close_in_clearance_m: float = 0.5
+    close_in_min_step_m: float = 0.3
     shake_yaw_rate_rad_s: float = 0.35
     shake_swing_s: float = 0.4
     stop_gesture: bool = True
@@ -163,7 +171,8 @@ class Blackboard:
     Outputs (written by the states): ``command`` (None = no motion), ``outbox``, ``chosen``,
     ``target``, ``errors``, ``arrived``; ``fusion`` (the current point's fused evidence) and
     ``decision`` (its latest fused decision); ``look_step`` / ``second_looks`` (the planned second
-    look and how many this point has had).
+    look and how many this point has had); ``close_in_step`` / ``close_ins`` (the planned advance
+    toward a far diver and how many this point has had).
     """
 
     config: BehaviourConfig
@@ -184,6 +193,8 @@ class Blackboard:
     decide_held: Callable | None = None
     look_step: LookStep | None = None
     second_looks: int = 0
+    close_in_step: CloseInStep | None = None
+    close_ins: int = 0
     target: TrackedTarget | None = None
     errors: ServoErrors | None = None
     arrived: bool = False

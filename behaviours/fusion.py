@@ -18,6 +18,13 @@ A frame whose arm was fine but that found no object at all counts as ``no_object
 its sightings. Every frame's part (its log probability per hypothesis) is kept for the story and
 the log.
 
+A pose model that places its landmarks off the joints' centres (``ArmKeypoints.keypoint_sigma_m``:
+BlazePose) makes the same error in every frame of a held pose: its frames are then one look, not
+several. For such a point the winner must also hold with the frames counted as ONE (the
+posterior from the frames' mean log probabilities) at ``min_shared_posterior``: a steady lean of
+ambiguous frames (at 5 m: 0.5 for a wrong placard frame after frame, issue 14) is not made certain
+by repetition.
+
 Pure data and arithmetic: no clock, no link.
 """
 
@@ -136,6 +143,8 @@ class PointFusion:
         floor_p: the smallest probability a frame gives any hypothesis (also for unseen objects).
         no_objects_none_p: "none" probability of a frame that found no object at all.
         max_effective_frames: the most independent frames the whole point may count as.
+        min_shared_posterior: a point whose frames share the pose model's error (``shared_error``)
+            needs this posterior with its frames counted as one.
     """
 
     radius_m: float
@@ -143,6 +152,8 @@ class PointFusion:
     floor_p: float = 0.02
     no_objects_none_p: float = 0.8
     max_effective_frames: float = 4.0
+    min_shared_posterior: float = 0.5
+    shared_error: bool = False
     direction: np.ndarray | None = None
     hypotheses: list[Hypothesis] = field(default_factory=list)
     none_log_sum: float = 0.0
@@ -154,6 +165,7 @@ class PointFusion:
         """Forget every frame (a new point, or a new viewpoint)."""
         self.hypotheses, self.none_log_sum, self.none_led, self.frames = [], 0.0, 0, []
         self.direction = None
+        self.shared_error = False
         self.held_arm.clear()
 
     @property
@@ -183,6 +195,8 @@ class PointFusion:
         probs = frame_probabilities(result, self.no_objects_none_p)
         if probs is None:
             return None
+        if result.arm is not None and getattr(result.arm, "keypoint_sigma_m", None):
+            self.shared_error = True
         objects, p_none = probs
         floor = self._log(0.0)
         seen: dict[str, float] = {}
@@ -215,9 +229,13 @@ class PointFusion:
         self.frames.append(ev)
         return ev
 
-    def posterior(self) -> dict:
-        """Return the fused posterior per hypothesis key ("none" included), summing to 1."""
-        w = self.weight
+    def posterior(self, weight: float | None = None) -> dict:
+        """Return the fused posterior per hypothesis key ("none" included), summing to 1.
+
+        ``weight``: the exponent on every frame instead of ``self.weight`` (1 / frames: the frames
+        counted as one).
+        """
+        w = self.weight if weight is None else weight
         logs = {h.key: w * h.log_sum for h in self.hypotheses}
         logs[NONE] = w * self.none_log_sum
         top = max(logs.values())
@@ -244,6 +262,12 @@ class PointFusion:
         if led < min_led:
             why = f"{best} led {led} of {n} frames (< {min_led})"
             return FusedDecision("undecided", None, post, best, second, n, why)
+        if self.shared_error and best != NONE:
+            shared = self.posterior(1.0 / n)[best]
+            if shared < self.min_shared_posterior:
+                why = (f"{best} {shared:.2f} < {self.min_shared_posterior:g} with the {n} frames counted as one "
+                       f"(they share the pose model's error)")
+                return FusedDecision("undecided", None, post, best, second, n, why)
         if best == NONE:
             return FusedDecision("none", None, post, best, second, n, f"nothing detected: fused {post[best]:.2f}")
         h = next(h for h in self.hypotheses if h.key == best)

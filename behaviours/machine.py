@@ -15,6 +15,7 @@ Read the whole mission here::
     every state but idle --disengage--> idle    (the link stopped commanding: operator disable, other causes)
     select_target --nothing_there--> nothing_there --released--> wait_for_diver   (shake, STATUSTEXT, no motion)
     select_target --second_look--> second_look --looked--> select_target   (a bounded step; diver gone: arm_lost)
+    select_target --close_in--> close_in --closer--> select_target   (a far diver: a bounded advance; diver gone: arm_lost)
     every state but idle/stopped --stop_gesture--> stopped   (both wrists above the head >= 1 s: neutral, enable kept)
 
 Stale perception only holds the current state. A disengage for one of ``SUSPEND_REASONS`` (each
@@ -42,7 +43,7 @@ __all__ = ["STATES", "TRANSITIONS", "Mission", "PERCEPTION_STALE", "SUSPEND_REAS
 
 STATES: list[str] = ["idle", "wait_for_diver", "confirm_point", "select_target", "acknowledge", "servo",
                      "lost_target", "arrive", "done", "abort", "suspended", "nothing_there", "stopped",
-                     "second_look"]
+                     "second_look", "close_in"]
 """Every mission state."""
 
 TRANSITIONS: list[dict] = [
@@ -50,12 +51,15 @@ TRANSITIONS: list[dict] = [
     {"trigger": "arm_seen", "source": "wait_for_diver", "dest": "confirm_point"},
     {"trigger": "steady", "source": "confirm_point", "dest": "select_target"},
     {"trigger": "timeout", "source": "confirm_point", "dest": "wait_for_diver"},
-    {"trigger": "arm_lost", "source": ["confirm_point", "select_target", "second_look"], "dest": "wait_for_diver"},
+    {"trigger": "arm_lost", "source": ["confirm_point", "select_target", "second_look", "close_in"],
+     "dest": "wait_for_diver"},
     {"trigger": "ambiguous", "source": "select_target", "dest": "confirm_point"},
     {"trigger": "winner", "source": "select_target", "dest": "acknowledge"},
     {"trigger": "nothing_there", "source": "select_target", "dest": "nothing_there"},
     {"trigger": "second_look", "source": "select_target", "dest": "second_look"},
     {"trigger": "looked", "source": "second_look", "dest": "select_target"},
+    {"trigger": "close_in", "source": "select_target", "dest": "close_in"},
+    {"trigger": "closer", "source": "close_in", "dest": "select_target"},
     {"trigger": "acked", "source": "acknowledge", "dest": "servo"},
     {"trigger": "centred", "source": "servo", "dest": "arrive"},
     {"trigger": "drifted", "source": "arrive", "dest": "servo"},

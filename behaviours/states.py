@@ -9,6 +9,7 @@ Time is ``bb.now_s`` (the loop's clock); nothing here sleeps or starts a timer.
 
 from __future__ import annotations
 
+import math
 from collections import deque
 
 import numpy as np
@@ -18,6 +19,7 @@ from dip3d_vehicle.servo.command import VelocityCommand
 
 from .acknowledge import Acknowledgement
 from .blackboard import Blackboard
+from .close_in import CloseInStep, horizontal_range_m, plan_close_in
 from .evidence import VoteBox, angular_spread_rad, arm_direction, image_direction, is_raised
 
 from .fusion import NONE, FrameEvidence, FusedDecision, PointFusion
@@ -26,7 +28,7 @@ from .tracker import TrackedTarget
 
 __all__ = ["MissionState", "Idle", "WaitForDiver", "ConfirmPoint", "SelectTarget", "Acknowledge",
            "Servo", "LostTarget", "Arrive", "Done", "Abort", "Suspended", "NothingThere", "Stopped", "SecondLook",
-           "STATE_CLASSES"]
+           "CloseIn", "STATE_CLASSES"]
 
 
 class MissionState:
@@ -86,7 +88,7 @@ def _fuse(bb: Blackboard, result, direction) -> FrameEvidence | None:
     c = bb.config
     if bb.fusion is None:
         bb.fusion = PointFusion(c.vote_radius_m, c.fusion_temper, c.fusion_floor_p, c.fusion_no_objects_none_p,
-                                c.fusion_max_effective_frames)
+                                c.fusion_max_effective_frames, c.fusion_min_shared_posterior)
     fusion = bb.fusion
     if direction is not None and fusion.direction is not None:
         mean = fusion.direction / max(float(np.linalg.norm(fusion.direction)), 1e-9)
@@ -141,6 +143,7 @@ class WaitForDiver(MissionState):
         bb.set_command(None)
         bb.fusion = None  # a new point starts its evidence afresh
         bb.second_looks = 0
+        bb.close_ins = 0
         self.history: deque[bool] = deque(maxlen=bb.config.arm_seen_m)
 
     def tick(self, bb: Blackboard) -> str | None:
@@ -212,12 +215,13 @@ class SelectTarget(_ArmWatch):
     The evidence gathered since the point began (confirm_point's frames too) is kept across an
     ``ambiguous`` round trip through confirm_point while the diver keeps pointing the same way.
     A winning object -> ``winner``; "nothing detected" winning -> ``nothing_there``; no clear
-    winner within ``behaviour.select_timeout_s``: two objects close -> ``second_look`` (while tries
-    are left and a step separates them), else ``ambiguous``.
+    winner within ``behaviour.select_timeout_s``: the diver farther than ``behaviour.decide_max_range_m``
+    -> ``close_in`` (while tries are left and a safe advance exists); two objects close ->
+    ``second_look`` (while tries are left and a step separates them); else ``ambiguous``.
     """
 
     name = "select_target"
-    triggers = ("winner", "nothing_there", "second_look", "ambiguous", "arm_lost")
+    triggers = ("winner", "nothing_there", "close_in", "second_look", "ambiguous", "arm_lost")
 
     def enter(self, bb: Blackboard) -> None:
         super().enter(bb)
@@ -268,12 +272,33 @@ class SelectTarget(_ArmWatch):
             return "ambiguous"
         decision = fusion.decide(c.fusion_min_posterior, c.min_votes)
         _tell_decision(bb, decision)
+        advance = self.close_in_step(bb)
+        if advance is not None:
+            bb.close_in_step = advance
+            return "close_in"
         step = self.look_step(bb, decision)
         if step is not None:
             bb.look_step = step
             return "second_look"
         bb.say(f"ambiguous: {decision.reason}", "notice", pilot=True)
         return "ambiguous"
+
+    def close_in_step(self, bb: Blackboard) -> CloseInStep | None:
+        """Return the advance toward a diver beyond ``behaviour.decide_max_range_m``, or None (near, no tries left, unsafe)."""
+        c, arm3d = bb.config, self.last_arm3d
+        if arm3d is None or bb.close_ins >= c.close_in_max_tries or bb.fusion is None:
+            return None
+        rng = horizontal_range_m(arm3d.xyz_m[0])
+        if rng <= c.decide_max_range_m:
+            return None
+        keep = [h.xyz_m for h in bb.fusion.hypotheses]
+        step = plan_close_in(arm3d.xyz_m[[0, 2]], np.reshape(keep, (-1, 3)), c.decide_max_range_m,
+                             c.close_in_standoff_m, c.close_in_clearance_m, bb.servo.focal_px,
+                             bb.servo.principal_point_px, c.second_look_margin_px, c.close_in_min_step_m)
+        if step is None:
+            bb.say(f"diver {rng:.1f} m away (> {c.decide_max_range_m:g} m), but no advance keeps every candidate "
+                   f"in view and clear")
+        return step
 
     def look_step(self, bb: Blackboard, decision: FusedDecision) -> LookStep | None:
         """Return the second look's step when two objects are close and a step separates them, else None."""
@@ -605,6 +630,55 @@ class SecondLook(_ArmWatch):
         bb.stop()
 
 
+class CloseIn(_ArmWatch):
+    """The diver is too far for the arm's tilt to be measured: advance toward them (``bb.close_in_step``),
+    settle, then decide again from there (the fused evidence restarts: a new viewpoint).
+
+    The advance was planned to end no nearer the diver than ``behaviour.close_in_standoff_m``, with
+    every object hypothesis in view and none on the path; it is commanded as surge and sway at
+    ``behaviour.close_in_speed_m_s`` for its length over that speed (heading kept), then nothing for
+    ``behaviour.second_look_settle_s``. The diver gone from the view (``arm_lost_frames`` frames
+    without the raised arm) -> stop, back to waiting (holding).
+    """
+
+    name = "close_in"
+    triggers = ("closer", "arm_lost")
+
+    def enter(self, bb: Blackboard) -> None:
+        super().enter(bb)
+        c, step = bb.config, bb.close_in_step
+        bb.close_ins += 1
+        self.misses = 0
+        if step is None:  # nothing planned: no motion, decide again at once
+            self.move_s, self.command = 0.0, None
+            return
+        v = c.close_in_speed_m_s
+        dx, _, dz = step.offset_m
+        n = max(math.hypot(dx, dz), 1e-9)
+        self.move_s = step.distance_m / v
+        self.command = VelocityCommand(surge_m_s=v * dz / n, sway_m_s=v * dx / n)
+        bb.say(f"diver {step.range_before_m:.1f} m away: closing in {step.distance_m:.2f} m to "
+               f"{step.range_after_m:.1f} m before deciding", "notice", pilot=True)
+
+    def tick(self, bb: Blackboard) -> str | None:
+        c = bb.config
+        moving = self.elapsed(bb) < self.move_s
+        bb.set_command(self.command if moving else None)
+        result = _new_result(bb)
+        if result is not None and self.arm_gone(bb, _raised(bb, result), "diver left the view while closing in"):
+            bb.stop()
+            return "arm_lost"
+        if self.elapsed(bb) >= self.move_s + c.second_look_settle_s:
+            if bb.fusion is not None:
+                bb.fusion.reset()
+            bb.say("closed in: deciding again from here")
+            return "closer"
+        return None
+
+    def exit(self, bb: Blackboard) -> None:
+        bb.stop()
+
+
 class Stopped(MissionState):
     """The diver's stop gesture: hold (neutral, the link stays engaged and the enable kept), mission over.
 
@@ -627,5 +701,5 @@ class Stopped(MissionState):
 
 STATE_CLASSES: tuple[type[MissionState], ...] = (Idle, WaitForDiver, ConfirmPoint, SelectTarget, Acknowledge,
                                                  Servo, LostTarget, Arrive, Done, Abort, Suspended, NothingThere,
-                                                 Stopped, SecondLook)
+                                                 Stopped, SecondLook, CloseIn)
 """Every state's behaviour class, by ``name``."""

@@ -30,6 +30,7 @@ from __future__ import annotations
 import argparse
 import json
 import math
+from collections import Counter
 from pathlib import Path
 from typing import Any, Sequence
 
@@ -176,6 +177,10 @@ def summarise(rows: list[dict]) -> dict:
             have = [r[name] for r in rows if name in r and "sigma_px" in r[name]]
             z = np.abs(np.array([h["disp_err_px"] for h in have])) / np.array([h["sigma_px"] for h in have])
             res["z_p90"] = np.percentile(z, 90, axis=0).round(2).tolist()
+        if name in METHODS:
+            chosen = [r[name]["select"] for r in rows if name in r and "select" in r[name]]
+            if chosen:  # the selector's per-frame outcomes with this method's arm (--select)
+                res["select"] = dict(sorted(Counter(chosen).items()))
         out[name] = res
     return out
 

@@ -336,7 +336,7 @@ class BlazePoseEstimator(PoseEstimator):
     def __init__(self, pose: BlazePose, arm: str = "right", tracking: bool = True,
                  stereo_search: str = "roi", max_disparity_px: float = 400.0,
                  joint_disparity: str = "landmarks", concurrent_eyes: bool = False,
-                 disparity_floor_px: float = 1.5) -> None:
+                 disparity_floor_px: float = 1.5, keypoint_sigma_m: float | None = None) -> None:
         """Wrap a ``BlazePose``; ``stereo_search`` is "roi" (search along rows) or "detect".
 
         ``joint_disparity``: "landmarks" = the right image's landmarks as BlazePose places them;
@@ -353,6 +353,9 @@ class BlazePoseEstimator(PoseEstimator):
         left one, in a second thread (onnxruntime releases the GIL): its ROI is this frame's left
         ROI shifted by the body's disparity measured with the PREVIOUS frame's landmarks (the
         sequential search waits for this frame's); any failure falls back to the sequential path.
+
+        ``keypoint_sigma_m``: the landmarks' own error at the body (metres), carried by every arm
+        for the selector (``ArmKeypoints.keypoint_sigma_m``).
 
         Keypoints are returned whatever their confidence: the pipeline applies
         ``pose.min_confidence`` (and reports ``pose_low_confidence`` rather than ``no_pose``).
@@ -371,6 +374,7 @@ class BlazePoseEstimator(PoseEstimator):
         self.joint_disparity = joint_disparity
         self.concurrent_eyes = bool(concurrent_eyes)
         self.disparity_floor_px = float(disparity_floor_px)
+        self.keypoint_sigma_m = None if keypoint_sigma_m is None else float(keypoint_sigma_m)
         self._body_disparity_px: float | None = None
         self.stats = StereoStats()
         self.last: tuple[PoseLandmarks | None, PoseLandmarks | None] = (None, None)
@@ -384,7 +388,8 @@ class BlazePoseEstimator(PoseEstimator):
                    max_disparity_px=params["blazepose.max_disparity_px"],
                    joint_disparity=params.get("blazepose.joint_disparity", "landmarks"),
                    concurrent_eyes=params.get("blazepose.concurrent_eyes", False),
-                   disparity_floor_px=params.get("blazepose.disparity_floor_px", 1.5))
+                   disparity_floor_px=params.get("blazepose.disparity_floor_px", 1.5),
+                   keypoint_sigma_m=params.get("blazepose.keypoint_sigma_m"))
 
     def reset(self) -> None:
         """Forget both cameras' tracking state."""
@@ -423,7 +428,7 @@ class BlazePoseEstimator(PoseEstimator):
                 rxy = np.c_[lxy[:, 0] - found.disparity_px, lxy[:, 1]]
                 sigma = np.maximum(found.sigma_px, self.disparity_floor_px * JOINT_FLOOR_FACTOR)
         return ArmKeypoints(self.arm, lxy, rxy, lconf, rconf, source="blazepose", extra_left_px=_extra(left, self.arm),
-                            disparity_sigma_px=sigma)
+                            disparity_sigma_px=sigma, keypoint_sigma_m=self.keypoint_sigma_m)
 
     def _matched(self, left_rect: np.ndarray, right_rect: np.ndarray, left: PoseLandmarks,
                  rig: StereoRig) -> ArmKeypoints | None:

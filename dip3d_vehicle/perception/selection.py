@@ -11,7 +11,10 @@ straight arm, and the object must lie AHEAD of the wrist and near the ray from t
 through the wrist (measured from the shoulder: seen from the wrist, a few degrees of pointing
 error become tens of degrees for an object close to the hand). "Near" is a miss distance in
 metres to points spread over the object, sigma = hypot(pointing_sigma * distance, tolerance),
-averaged over the object's points (the diver points at some part of the object, not its centre). The fit's
+averaged over the object's points (the diver points at some part of the object, not its centre). A pose
+model that places its landmarks off the joints' centres (``ArmKeypoints.keypoint_sigma_m``, BlazePose
+~5 cm at the body) widens the limb lengths, the bend and the pointing sigma by that error: at 5 m an
+arm seen foreshortened says little about its tilt, and the fit must not pretend otherwise. The fit's
 cost becomes a posterior over objects: confidence = posterior of the best, ambiguity margin =
 difference in log-likelihood between the best and the second best.
 """
@@ -176,6 +179,7 @@ class ArmModel:
     object_extent_m: float = 0.03
     straightness_sigma_m: float = 0.05
     length_sigma_m: float = 0.02
+    keypoint_sigma_m: float = 0.0
 
 
 def _norm(v: np.ndarray) -> np.ndarray:
@@ -198,9 +202,18 @@ class _PointingFit:
     Levenberg-Marquardt in numpy (a few hundred microseconds for a dozen objects).
     """
 
-    def __init__(self, rays: np.ndarray, depth_m: np.ndarray, depth_sigma_m: np.ndarray, model: ArmModel) -> None:
+    def __init__(self, rays: np.ndarray, depth_m: np.ndarray, depth_sigma_m: np.ndarray, model: ArmModel,
+                 keypoint_sigma_m: float = 0.0) -> None:
         self.rays, self.depth_m, self.sigma = rays, depth_m, np.maximum(depth_sigma_m, 0.01)
         self.model = model
+        # a joint placed keypoint_sigma_m off its centre, across the ray (the pose model's own error at the
+        # body): each limb's length and the arm's bend are known no better than that, its direction no
+        # better than that over the arm's length
+        lateral = math.sqrt(2.0) * max(float(keypoint_sigma_m), 0.0)
+        self.length_sigma_m = math.hypot(model.length_sigma_m, lateral)
+        self.straightness_sigma_m = math.hypot(model.straightness_sigma_m, keypoint_sigma_m)
+        arm_m = 0.5 * (sum(model.forearm_m) + sum(model.upperarm_m))
+        self.pointing_sigma_rad = math.hypot(model.pointing_sigma_rad, lateral / arm_m)
 
     def arm_terms(self, x: np.ndarray) -> tuple[np.ndarray, ...]:
         """Return the arm's own weighted residuals for joint depths x (B, >=3), metres.
@@ -216,8 +229,8 @@ class _PointingFit:
         fore, upper = _norm(w - e), _norm(e - s)
         bend = np.sqrt(np.maximum(upper * upper - np.einsum("bj,bj->b", e - s, u) ** 2, 0.0))  # |(e - s) x u|
         hinge = lambda v, lo, hi: np.maximum(np.maximum(lo - v, 0.0), v - hi)  # noqa: E731
-        return ((x[:, :3] - self.depth_m) / self.sigma, bend / m.straightness_sigma_m,
-                hinge(fore, *m.forearm_m) / m.length_sigma_m, hinge(upper, *m.upperarm_m) / m.length_sigma_m)
+        return ((x[:, :3] - self.depth_m) / self.sigma, bend / self.straightness_sigma_m,
+                hinge(fore, *m.forearm_m) / self.length_sigma_m, hinge(upper, *m.upperarm_m) / self.length_sigma_m)
 
     def residuals(self, x: np.ndarray, obj_ray: np.ndarray, obj_depth: np.ndarray, obj_sigma: np.ndarray,
                   obj_shape: np.ndarray) -> np.ndarray:
@@ -240,7 +253,7 @@ class _PointingFit:
         offset = np.sqrt(np.maximum(dist * dist - along * along, 0.0))  # |from_shoulder x u|, u a unit vector
         # a miss in metres, sigma = hypot(sigma_angle * distance, tolerance), to each object point
         miss = np.where(along > 0, offset, dist)
-        spread = np.hypot(m.pointing_sigma_rad * np.maximum(along, 0.0), m.object_extent_m)
+        spread = np.hypot(self.pointing_sigma_rad * np.maximum(along, 0.0), m.object_extent_m)
         # the diver points at some point of the object: likelihood = mean over its points
         r2 = (miss / spread) ** 2
         low = r2.min(axis=1)
@@ -367,7 +380,7 @@ class OpenSet:
 
 
 def image_gate(arm: ArmKeypoints, objects: list[ObjectCandidate], points_px: list[np.ndarray], rig: StereoRig,
-               arm3d: Arm3D, model: ArmModel, open_set: OpenSet) -> np.ndarray:
+               arm3d: Arm3D, model: ArmModel, open_set: OpenSet, pointing_sigma_rad: float | None = None) -> np.ndarray:
     """Return a bool per object: can the arm's direction in the left image point at it?
 
     The shoulder-to-wrist line in the image, seen from the shoulder, must pass within the gate of
@@ -384,7 +397,8 @@ def image_gate(arm: ArmKeypoints, objects: list[ObjectCandidate], points_px: lis
     full_px = rig.focal_px * float(np.linalg.norm(arm3d.joint("wrist") - arm3d.joint("shoulder")))
     full_px /= max(float(arm3d.joint("shoulder")[2]), 0.1)
     shortening = float(np.clip(length_px / max(full_px, 1e-6), 0.1, 1.0))
-    sigma = math.hypot(model.pointing_sigma_rad / shortening, 2.0 * model.keypoint_sigma_px / length_px)
+    pointing = model.pointing_sigma_rad if pointing_sigma_rad is None else pointing_sigma_rad
+    sigma = math.hypot(pointing / shortening, 2.0 * model.keypoint_sigma_px / length_px)
     gate = float(np.clip(open_set.gate_sigmas * sigma, open_set.gate_min_rad, math.pi / 2))
     keep = np.zeros(len(objects), bool)
     for k, pts in enumerate(points_px):
@@ -423,14 +437,16 @@ class DefaultSelector(PointingSelector):
                              "no object with enough matched features")
         rows = (arm.left_px[:, 1] + arm.right_px[:, 1]) / 2.0
         rays = _rays(np.c_[arm.left_px[:, 0], rows], rig)
-        fit = _PointingFit(rays, arm3d.xyz_m[:, 2], arm3d.depth_sigma_m, self.model)
+        given = getattr(arm, "keypoint_sigma_m", None)
+        keypoint_sigma_m = self.model.keypoint_sigma_m if given is None else float(given)
+        fit = _PointingFit(rays, arm3d.xyz_m[:, 2], arm3d.depth_sigma_m, self.model, keypoint_sigma_m)
         obj_rays = _rays(np.array([o.left_px for o in objects]), rig)
         shapes = np.stack([object_shape(xyz_m[list(o.members)], o.xyz_m) for o in objects])
         costs = fit.costs(obj_rays, np.array([o.xyz_m[2] for o in objects]),
                           np.array([o.depth_sigma_m for o in objects]), shapes)
         allowed = image_gate(arm, objects, [candidates.left_px[list(o.members)] for o in objects], rig, arm3d,
-                             self.model, self.open_set)
-        log_odds = self._log_odds(costs, fit.arm_cost(), objects, arm, arm3d)
+                             self.model, self.open_set, fit.pointing_sigma_rad)
+        log_odds = self._log_odds(costs, fit.arm_cost(), objects, arm, arm3d, fit.pointing_sigma_rad)
         log_odds = np.where(allowed, log_odds, -np.inf)
         top = max(float(log_odds.max()), 0.0)
         weights = np.exp(log_odds - top)
@@ -457,7 +473,7 @@ class DefaultSelector(PointingSelector):
                          confidence < self.min_confidence, float(p_none))
 
     def _log_odds(self, costs: np.ndarray, arm_cost: float, objects: list[ObjectCandidate], arm: ArmKeypoints,
-                  arm3d: Arm3D) -> np.ndarray:
+                  arm3d: Arm3D, pointing_sigma_rad: float | None = None) -> np.ndarray:
         """Return each object's log odds against "nothing detected" (prior x likelihood ratio).
 
         "Nothing detected" spreads the target uniformly over ``none_solid_angle_sr``; an object
@@ -473,7 +489,8 @@ class DefaultSelector(PointingSelector):
         length_px = max(float(np.linalg.norm(arm.joint("wrist") - arm.joint("shoulder"))), 1.0)
         across = math.sqrt(2.0) * m.keypoint_sigma_px / length_px
         dist = np.array([float(np.linalg.norm(obj.xyz_m - shoulder)) for obj in objects])
-        sigma2 = m.pointing_sigma_rad ** 2 + (m.object_extent_m / np.maximum(dist, 0.1)) ** 2
+        pointing = m.pointing_sigma_rad if pointing_sigma_rad is None else pointing_sigma_rad
+        sigma2 = pointing ** 2 + (m.object_extent_m / np.maximum(dist, 0.1)) ** 2
         density = math.log(o.none_solid_angle_sr / (2.0 * math.pi)) - 0.5 * np.log((sigma2 + tilt ** 2) *
                                                                                  (sigma2 + across ** 2))
         prior = math.log((1.0 - o.none_prior) / (len(objects) * o.none_prior))

@@ -39,6 +39,10 @@ class ArmKeypoints:
         disparity_sigma_px: optional (3,) one-sigma error of each joint's disparity (x_left -
             x_right) as the estimator measured it, pixels; None = unknown (the pipeline then uses
             the keypoints' epipolar residuals and ``selection.keypoint_sigma_px``).
+        keypoint_sigma_m: optional one-sigma distance (metres, at the body, per image axis) between
+            where the estimator places a joint and the joint's centre: a pose model's landmark
+            definition and bias, systematic over the frames of one pose (it does not average);
+            None = none beyond ``selection.keypoint_sigma_px`` (truth + noise, keypoints files).
     """
 
     arm: str
@@ -49,6 +53,7 @@ class ArmKeypoints:
     source: str = ""
     extra_left_px: dict = field(default_factory=dict)
     disparity_sigma_px: np.ndarray | None = None
+    keypoint_sigma_m: float | None = None
 
     def joint(self, name: str, side: str = "left") -> np.ndarray:
         """Return one joint's (x, y) in the rectified ``side`` image, pixels."""

@@ -87,3 +87,13 @@ def test_held_arm_sharpens_the_open_set_decision(tmp_path):
     assert held_out["correct"] >= single["correct"]
     assert held_out["confident_wrong"] <= single["confident_wrong"]
     assert np.mean(held_out["none_p"]) < np.mean(single["none_p"])
+
+
+def test_the_pose_models_own_landmark_error_is_kept_not_averaged_by_the_held_arm():
+    """Every frame of a held pose repeats the model's landmark error: the mean arm carries it unchanged."""
+    import dataclasses
+
+    held = HeldArm(4)
+    for k in range(4):
+        held.add(dataclasses.replace(_arm(100.0 + k), keypoint_sigma_m=0.05))
+    assert held.mean().keypoint_sigma_m == 0.05

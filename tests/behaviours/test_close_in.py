@@ -1,0 +1,205 @@
+"""Issue 14: a far diver's point is decided only after a bounded, safe advance toward the diver."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from behaviours.blackboard import Observation, StatusText
+from behaviours.fusion import PointFusion
+from behaviours.close_in import horizontal_range_m, path_clearance_m, plan_close_in
+from behaviours.loop import build_mission
+from behaviours.second_look import _in_view
+from dip3d_vehicle.config import load_params
+from dip3d_vehicle.perception.pipeline import PerceptionResult
+from dip3d_vehicle.perception.values import Arm3D, ArmKeypoints, Candidates, ObjectCandidate, Selection
+from sitl.scenario import load_scenario
+
+FRAME_S = 0.2
+F_PX, PP_PX = 920.0, (800.0, 600.0)
+FAR_SHOULDER = np.array([-1.0, -0.3, 5.0])
+"""A diver like far_diver's: 5 m away, left of the image centre."""
+
+
+@pytest.fixture(scope="module")
+def rig():
+    return load_scenario("paper_pool", 0).rig()
+
+
+def _mission(rig, **over):
+    params = load_params(overrides={k: str(v) for k, v in over.items()})
+    m = build_mission(params, rig, (1600, 1200))
+    m.bb.engaged = True
+    return m
+
+
+def _project(xyz: np.ndarray) -> np.ndarray:
+    return np.c_[F_PX * xyz[:, 0] / xyz[:, 2] + PP_PX[0], F_PX * xyz[:, 1] / xyz[:, 2] + PP_PX[1]]
+
+
+def _arm(shoulder: np.ndarray, raised: bool = True, keypoint_sigma_m: float | None = None) -> tuple[ArmKeypoints, Arm3D]:
+    """An arm pointing toward the camera's right (raised) or hanging down."""
+    direction = np.array([0.5, 0.2, -0.84]) if raised else np.array([0.1, 1.0, 0.0])
+    direction /= np.linalg.norm(direction)
+    xyz = np.array([shoulder, shoulder + 0.3 * direction, shoulder + 0.58 * direction])
+    left = _project(xyz)
+    arm = ArmKeypoints("right", left, left - [F_PX * 0.12 / xyz[0, 2], 0.0], np.ones(3), np.ones(3),
+                       keypoint_sigma_m=keypoint_sigma_m)
+    return arm, Arm3D(xyz, np.full(3, 0.3))
+
+
+def _frame(shoulder=FAR_SHOULDER, raised: bool = True, scores=(0.45, 0.42), none_p: float = 0.13,
+           keypoint_sigma_m: float | None = None) -> PerceptionResult:
+    """Two placards one behind the other along the arm, neither clearly pointed at (as at 5 m)."""
+    arm, arm3d = _arm(np.asarray(shoulder, float), raised, keypoint_sigma_m)
+    where = [np.array([0.5, 0.1, 2.0]), np.array([0.45, 0.1, 3.0]), np.array([0.55, 0.15, 1.3])]
+    scores = np.asarray(scores, float)
+    objs = tuple(ObjectCandidate(_project(p[None])[0], p, 0.02, (0, 1, 2)) for p in where[:len(scores)])
+    cands = Candidates(np.zeros((3, 2)), np.zeros((3, 2)), np.random.default_rng(0).random((3, 128), np.float32),
+                       np.zeros(3))
+    sel = Selection(0, objs, scores, float(scores[0]), math.inf, "default", scores[0] < 0.6, none_p)
+    return PerceptionResult("ok", "", arm, arm3d, cands, np.array([[0.0, 0.0, 3.0]] * 3), sel)
+
+
+def _feed(m, results, t0: float = 0.0):
+    fired = []
+    for i, r in enumerate(results):
+        m.bb.now_s = t0 + (i + 1) * FRAME_S
+        m.bb.observation = Observation(m.bb.now_s, i, result=r)
+        fired.append(m.tick())
+        m.bb.observation = None
+    return fired
+
+
+def _to(m, state: str):
+    m.machine.set_state(state)
+    m.behaviours[state].enter(m.bb)
+
+
+# ----------------------------------------------------------------------------- the plan (pure geometry)
+def test_the_advance_stops_at_the_deciding_range_or_the_standoff_straight_toward_the_diver():
+    diver = np.array([[0.0, 0.0, 5.0], [0.3, 0.1, 4.6]])
+    step = plan_close_in(diver, np.zeros((0, 3)), 3.5, 2.0, 0.5, F_PX, PP_PX)
+    assert step.distance_m == pytest.approx(1.5) and step.range_after_m == pytest.approx(3.5)
+    assert step.offset_m == pytest.approx((0.0, 0.0, 1.5))
+    step = plan_close_in(diver, np.zeros((0, 3)), 3.5, 4.2, 0.5, F_PX, PP_PX)  # the standoff is farther
+    assert step.range_after_m == pytest.approx(4.2, abs=0.05) and step.range_after_m >= 4.2 - 1e-9
+    oblique = np.array([[-3.0, 0.0, 4.0]])  # 5 m at -37 deg: the advance is along that bearing, no heave
+    step = plan_close_in(oblique, np.zeros((0, 3)), 3.5, 2.0, 0.5, F_PX, PP_PX, margin_px=0.0)
+    assert step.offset_m[1] == 0.0 and math.atan2(step.offset_m[0], step.offset_m[2]) == pytest.approx(
+        math.atan2(-3.0, 4.0))
+    assert horizontal_range_m(oblique[0] - np.array(step.offset_m)) == pytest.approx(step.range_after_m)
+
+
+def test_no_advance_for_a_near_diver_or_one_too_short_to_matter():
+    assert plan_close_in([[0.0, 0.0, 3.0]], np.zeros((0, 3)), 3.5, 2.0, 0.5, F_PX, PP_PX) is None
+    assert plan_close_in([[0.0, 0.0, 3.7]], np.zeros((0, 3)), 3.5, 2.0, 0.5, F_PX, PP_PX, min_step_m=0.3) is None
+
+
+def test_every_candidate_stays_in_view_and_off_the_path():
+    diver = np.array([[-1.0, -0.3, 5.0], [-0.7, -0.2, 4.5]])
+    near = np.array([[0.66, 0.2, 1.35]])  # far_diver's nearest placard, right of the path
+    step = plan_close_in(diver, near, 3.5, 2.0, 0.5, F_PX, PP_PX, margin_px=80.0)
+    c = np.array(step.offset_m)
+    assert 0.3 <= step.distance_m < 1.5  # stopped short of 3.5 m: the placard would leave the image
+    assert _in_view(np.vstack([diver, near]) - c, F_PX, PP_PX, 80.0)
+    longer = c * (step.distance_m + 0.05) / step.distance_m
+    assert not _in_view(np.vstack([diver, near]) - longer, F_PX, PP_PX, 80.0)
+    on_path = np.array([[-0.1, 0.0, 0.8]])  # an object in the way: never advanced past / into it
+    step = plan_close_in(diver, on_path, 3.5, 2.0, 0.5, F_PX, PP_PX, margin_px=0.0)
+    assert step is None or path_clearance_m(on_path, step.offset_m) >= 0.5
+
+
+def test_path_clearance_is_the_distance_to_the_segment():
+    assert path_clearance_m([[1.0, 0.0, 1.0]], [0.0, 0.0, 2.0]) == pytest.approx(1.0)
+    assert path_clearance_m([[0.0, 0.0, 3.0]], [0.0, 0.0, 2.0]) == pytest.approx(1.0)
+    assert path_clearance_m([[0.0, 0.0, -1.0]], [0.0, 0.0, 2.0]) == pytest.approx(1.0)
+    assert path_clearance_m(np.zeros((0, 3)), [0.0, 0.0, 2.0]) == math.inf
+
+
+# ----------------------------------------------------------------------------- the state
+def _close_in_mission(rig, **over):
+    return _mission(rig, **{"behaviour.select_timeout_s": 1.0, "behaviour.close_in_speed_m_s": 0.15,
+                            "behaviour.second_look_settle_s": 0.6, **over})
+
+
+def test_an_undecided_far_point_closes_in_slowly_then_decides_again_once(rig):
+    m = _close_in_mission(rig)
+    _to(m, "select_target")
+    fired = _feed(m, [_frame()] * 5 + [None])
+    assert fired[-1] == "close_in" and m.state == "close_in" and m.bb.close_ins == 1
+    step = m.bb.close_in_step
+    assert step.range_before_m > 3.5 and step.range_after_m >= 2.0 and step.distance_m >= 0.3
+    assert any(isinstance(o, StatusText) and "closing in" in o.text for o in m.bb.outbox)
+    cmds, t0 = [], m.bb.now_s
+    for k in range(1, 2000):
+        m.bb.now_s = t0 + 0.02 * k
+        m.bb.observation = Observation(m.bb.now_s, k, result=_frame()) if k % 10 == 0 else None
+        trig = m.tick()
+        m.bb.observation = None
+        cmds.append(m.bb.command)
+        if trig:
+            break
+    assert trig == "closer" and m.state == "select_target" and m.bb.fusion.frames == []
+    moving = [c for c in cmds if c is not None]
+    assert moving and all(c.heave_m_s == 0 and c.yaw_rate_rad_s == 0 and c.surge_m_s > 0 for c in moving)
+    assert all(math.hypot(c.surge_m_s, c.sway_m_s) == pytest.approx(0.15) for c in moving)
+    assert all(c.sway_m_s < 0 for c in moving)  # the diver is left of the image centre
+    travelled = sum(math.hypot(c.surge_m_s, c.sway_m_s) for c in moving) * 0.02
+    assert travelled == pytest.approx(step.distance_m, abs=0.03) and cmds[-1] is None
+    fired = _feed(m, [_frame()] * 5 + [None], t0=m.bb.now_s)  # tries used up: no second advance
+    assert "close_in" not in fired and m.state in ("confirm_point", "second_look")
+    _to(m, "wait_for_diver")
+    assert m.bb.close_ins == 0  # a new point may close in again
+
+
+def test_a_near_diver_or_no_tries_never_closes_in(rig):
+    m = _close_in_mission(rig)
+    _to(m, "select_target")
+    fired = _feed(m, [_frame(shoulder=(-0.5, -0.3, 3.0))] * 5 + [None])
+    assert "close_in" not in fired and m.bb.close_ins == 0
+    m = _close_in_mission(rig, **{"behaviour.close_in_max_tries": 0})
+    _to(m, "select_target")
+    assert "close_in" not in _feed(m, [_frame()] * 5 + [None])
+
+
+def test_closing_in_stops_and_waits_when_the_diver_leaves_the_view(rig):
+    m = _close_in_mission(rig, **{"behaviour.arm_lost_frames": 3})
+    _to(m, "select_target")
+    assert _feed(m, [_frame()] * 5 + [None])[-1] == "close_in"
+    assert _feed(m, [_frame()])[-1] is None and m.bb.command is not None  # moving
+    fired = _feed(m, [_frame(raised=False)] * 3, t0=m.bb.now_s)
+    assert fired[-1] == "arm_lost" and m.state == "wait_for_diver" and m.bb.command is None
+
+
+def test_closing_in_without_a_plan_does_not_move(rig):
+    m = _close_in_mission(rig)
+    m.bb.close_in_step = None
+    _to(m, "close_in")
+    assert m.bb.command is None
+    fired, cmds = [], []
+    for i in range(4):
+        fired += _feed(m, [_frame()], t0=i * FRAME_S)
+        cmds.append(m.bb.command)
+    assert fired.index("closer") == 2 and all(c is None for c in cmds)  # after the settle time, 0.6 s
+
+
+# ----------------------------------------------------------------------------- frames sharing the pose's error
+def test_a_steady_lean_of_a_pose_with_its_own_error_is_not_made_certain_by_repetition():
+    lean = dict(scores=(0.47, 0.22, 0.16), none_p=0.15)  # far_diver seed 5 at 4.5 m: a wrong placard, frame after frame
+    shared, independent = PointFusion(0.3), PointFusion(0.3)
+    for _ in range(20):
+        shared.add(_frame(keypoint_sigma_m=0.05, **lean), 0.0)
+        independent.add(_frame(**lean), 0.0)
+    assert independent.decide(0.9, 3).kind == "object"  # the frames' noise taken as independent: decided
+    d = shared.decide(0.9, 3)
+    assert shared.shared_error and d.kind == "undecided" and "counted as one" in d.reason
+    assert d.posterior[d.best] >= 0.9  # the tempered product alone would have decided
+    clear = PointFusion(0.3)
+    for _ in range(6):  # frames that each favour one object on their own still decide
+        clear.add(_frame(keypoint_sigma_m=0.05, scores=(0.75, 0.1), none_p=0.15), 0.0)
+    assert clear.decide(0.9, 3).kind == "object"
+    clear.reset()
+    assert not clear.shared_error and clear.frames == []
