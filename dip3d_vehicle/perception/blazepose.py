@@ -453,7 +453,8 @@ class BlazePoseEstimator(PoseEstimator):
         rxy = np.c_[lxy[:, 0] - found.disparity_px, lxy[:, 1]]
         sigma = np.maximum(found.sigma_px, self.disparity_floor_px * JOINT_FLOOR_FACTOR)
         return ArmKeypoints(self.arm, lxy, rxy, lconf, lconf.copy(), source="blazepose",
-                            extra_left_px=_extra(left, self.arm), disparity_sigma_px=sigma)
+                            extra_left_px=_extra(left, self.arm), disparity_sigma_px=sigma,
+                            keypoint_sigma_m=self.keypoint_sigma_m)
 
     def stereo_joints(self, left_rect: np.ndarray, right_rect: np.ndarray, left: PoseLandmarks,
                       rig: StereoRig) -> JointDisparity | None:
