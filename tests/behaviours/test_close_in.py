@@ -10,14 +10,12 @@ import pytest
 from behaviours.blackboard import Observation, StatusText
 from behaviours.fusion import PointFusion
 from behaviours.close_in import horizontal_range_m, path_clearance_m, plan_close_in
-from behaviours.loop import build_mission
 from behaviours.second_look import _in_view
-from dip3d_vehicle.config import load_params
 from dip3d_vehicle.perception.pipeline import PerceptionResult
 from dip3d_vehicle.perception.values import Arm3D, ArmKeypoints, Candidates, ObjectCandidate, Selection
 from sitl.scenario import load_scenario
+from mission_driver import engaged_mission, FRAME_S, enter, feed
 
-FRAME_S = 0.2
 F_PX, PP_PX = 920.0, (800.0, 600.0)
 FAR_SHOULDER = np.array([-1.0, -0.3, 5.0])
 """A diver like far_diver's: 5 m away, left of the image centre."""
@@ -26,13 +24,6 @@ FAR_SHOULDER = np.array([-1.0, -0.3, 5.0])
 @pytest.fixture(scope="module")
 def rig():
     return load_scenario("paper_pool", 0).rig()
-
-
-def _mission(rig, **over):
-    params = load_params(overrides={k: str(v) for k, v in over.items()})
-    m = build_mission(params, rig, (1600, 1200))
-    m.bb.engaged = True
-    return m
 
 
 def _project(xyz: np.ndarray) -> np.ndarray:
@@ -61,21 +52,6 @@ def _frame(shoulder=FAR_SHOULDER, raised: bool = True, scores=(0.45, 0.42), none
                        np.zeros(3))
     sel = Selection(0, objs, scores, float(scores[0]), math.inf, "default", scores[0] < 0.6, none_p)
     return PerceptionResult("ok", "", arm, arm3d, cands, np.array([[0.0, 0.0, 3.0]] * 3), sel)
-
-
-def _feed(m, results, t0: float = 0.0):
-    fired = []
-    for i, r in enumerate(results):
-        m.bb.now_s = t0 + (i + 1) * FRAME_S
-        m.bb.observation = Observation(m.bb.now_s, i, result=r)
-        fired.append(m.tick())
-        m.bb.observation = None
-    return fired
-
-
-def _to(m, state: str):
-    m.machine.set_state(state)
-    m.behaviours[state].enter(m.bb)
 
 
 # ----------------------------------------------------------------------------- the plan (pure geometry)
@@ -120,15 +96,15 @@ def test_path_clearance_is_the_distance_to_the_segment():
 
 
 # ----------------------------------------------------------------------------- the state
-def _close_in_mission(rig, **over):
-    return _mission(rig, **{"behaviour.select_timeout_s": 1.0, "behaviour.close_in_speed_m_s": 0.15,
+def _close_inengaged_mission(rig, **over):
+    return engaged_mission(rig, **{"behaviour.select_timeout_s": 1.0, "behaviour.close_in_speed_m_s": 0.15,
                             "behaviour.second_look_settle_s": 0.6, **over})
 
 
 def test_an_undecided_far_point_closes_in_slowly_then_decides_again_once(rig):
-    m = _close_in_mission(rig)
-    _to(m, "select_target")
-    fired = _feed(m, [_frame()] * 5 + [None])
+    m = _close_inengaged_mission(rig)
+    enter(m, "select_target")
+    fired = feed(m, [_frame()] * 5 + [None])
     assert fired[-1] == "close_in" and m.state == "close_in" and m.bb.close_ins == 1
     step = m.bb.close_in_step
     assert step.range_before_m > 3.5 and step.range_after_m >= 2.0 and step.distance_m >= 0.3
@@ -149,39 +125,39 @@ def test_an_undecided_far_point_closes_in_slowly_then_decides_again_once(rig):
     assert all(c.sway_m_s < 0 for c in moving)  # the diver is left of the image centre
     travelled = sum(math.hypot(c.surge_m_s, c.sway_m_s) for c in moving) * 0.02
     assert travelled == pytest.approx(step.distance_m, abs=0.03) and cmds[-1] is None
-    fired = _feed(m, [_frame()] * 5 + [None], t0=m.bb.now_s)  # tries used up: no second advance
+    fired = feed(m, [_frame()] * 5 + [None], t0=m.bb.now_s)  # tries used up: no second advance
     assert "close_in" not in fired and m.state in ("confirm_point", "second_look")
-    _to(m, "wait_for_diver")
+    enter(m, "wait_for_diver")
     assert m.bb.close_ins == 0  # a new point may close in again
 
 
 def test_a_near_diver_or_no_tries_never_closes_in(rig):
-    m = _close_in_mission(rig)
-    _to(m, "select_target")
-    fired = _feed(m, [_frame(shoulder=(-0.5, -0.3, 3.0))] * 5 + [None])
+    m = _close_inengaged_mission(rig)
+    enter(m, "select_target")
+    fired = feed(m, [_frame(shoulder=(-0.5, -0.3, 3.0))] * 5 + [None])
     assert "close_in" not in fired and m.bb.close_ins == 0
-    m = _close_in_mission(rig, **{"behaviour.close_in_max_tries": 0})
-    _to(m, "select_target")
-    assert "close_in" not in _feed(m, [_frame()] * 5 + [None])
+    m = _close_inengaged_mission(rig, **{"behaviour.close_in_max_tries": 0})
+    enter(m, "select_target")
+    assert "close_in" not in feed(m, [_frame()] * 5 + [None])
 
 
 def test_closing_in_stops_and_waits_when_the_diver_leaves_the_view(rig):
-    m = _close_in_mission(rig, **{"behaviour.arm_lost_frames": 3})
-    _to(m, "select_target")
-    assert _feed(m, [_frame()] * 5 + [None])[-1] == "close_in"
-    assert _feed(m, [_frame()])[-1] is None and m.bb.command is not None  # moving
-    fired = _feed(m, [_frame(raised=False)] * 3, t0=m.bb.now_s)
+    m = _close_inengaged_mission(rig, **{"behaviour.arm_lost_frames": 3})
+    enter(m, "select_target")
+    assert feed(m, [_frame()] * 5 + [None])[-1] == "close_in"
+    assert feed(m, [_frame()])[-1] is None and m.bb.command is not None  # moving
+    fired = feed(m, [_frame(raised=False)] * 3, t0=m.bb.now_s)
     assert fired[-1] == "arm_lost" and m.state == "wait_for_diver" and m.bb.command is None
 
 
 def test_closing_in_without_a_plan_does_not_move(rig):
-    m = _close_in_mission(rig)
+    m = _close_inengaged_mission(rig)
     m.bb.close_in_step = None
-    _to(m, "close_in")
+    enter(m, "close_in")
     assert m.bb.command is None
     fired, cmds = [], []
     for i in range(4):
-        fired += _feed(m, [_frame()], t0=i * FRAME_S)
+        fired += feed(m, [_frame()], t0=i * FRAME_S)
         cmds.append(m.bb.command)
     assert fired.index("closer") == 2 and all(c is None for c in cmds)  # after the settle time, 0.6 s
 

@@ -10,7 +10,6 @@ import pytest
 from behaviours.acknowledge import ack_schedule
 from behaviours.blackboard import BehaviourConfig, Observation, SetServo, StatusText, TrackFrame
 from behaviours.evidence import VoteBox, angular_spread_rad, is_raised
-from behaviours.loop import build_mission
 from behaviours.machine import PERCEPTION_STALE, STATES, SUSPEND_REASONS, SUSPENDABLE, TRANSITIONS
 from behaviours.states import STATE_CLASSES
 from dip3d_vehicle.config import load_params
@@ -20,8 +19,8 @@ from dip3d_vehicle.perception.values import Arm3D, ArmKeypoints, Candidates, Obj
 from dip3d_vehicle.servo.command import VelocityCommand
 from sitl.scenario import load_scenario
 from synthetic_target import target_frame
+from mission_driver import engaged_mission, enter, feed
 
-FRAME_S = 0.2
 
 
 # ----------------------------------------------------------------------------- the table
@@ -69,13 +68,6 @@ def rig():
     return load_scenario("paper_pool", 0).rig()
 
 
-def _mission(rig, **over):
-    params = load_params(overrides={k: str(v) for k, v in over.items()})
-    m = build_mission(params, rig, (1600, 1200))
-    m.bb.engaged = True
-    return m
-
-
 def _result(raised: bool = True, image_angle: float = 0.0, target_xyz=(0.5, 0.0, 2.0), confidence: float = 0.9,
             ambiguous: bool = False, status: str = "ok") -> PerceptionResult:
     """A perception result: an arm (raised or hanging) and optionally a chosen object."""
@@ -96,25 +88,9 @@ def _result(raised: bool = True, image_angle: float = 0.0, target_xyz=(0.5, 0.0,
     return PerceptionResult("ok", "", arm, arm3d, cands, np.asarray([target_xyz] * 3, float), sel)
 
 
-def _feed(m, results, t0: float = 0.0):
-    """Tick the mission once per result at the frame rate; return the triggers fired."""
-    fired = []
-    for i, r in enumerate(results):
-        m.bb.now_s = t0 + (i + 1) * FRAME_S
-        m.bb.observation = Observation(m.bb.now_s, i, result=r)
-        fired.append(m.tick())
-        m.bb.observation = None
-    return fired
-
-
-def _to(m, state: str):
-    m.machine.set_state(state)
-    m.behaviours[state].enter(m.bb)
-
-
 # ----------------------------------------------------------------------------- states
 def test_idle_engages_only_when_the_link_is_engaged(rig):
-    m = _mission(rig)
+    m = engaged_mission(rig)
     m.bb.engaged = False
     assert m.tick() is None and m.state == "idle"
     m.bb.engaged = True
@@ -122,44 +98,44 @@ def test_idle_engages_only_when_the_link_is_engaged(rig):
 
 
 def test_wait_for_diver_needs_n_of_m_raised_frames(rig):
-    m = _mission(rig, **{"behaviour.arm_seen_n": 3, "behaviour.arm_seen_m": 5})
-    _to(m, "wait_for_diver")
-    _feed(m, [_result(True), _result(False), _result(True), _result(False)])
+    m = engaged_mission(rig, **{"behaviour.arm_seen_n": 3, "behaviour.arm_seen_m": 5})
+    enter(m, "wait_for_diver")
+    feed(m, [_result(True), _result(False), _result(True), _result(False)])
     assert m.state == "wait_for_diver"
-    _feed(m, [_result(True)])
+    feed(m, [_result(True)])
     assert m.state == "confirm_point"
 
 
 def test_confirm_point_needs_a_steady_direction_for_the_hold_time(rig):
-    m = _mission(rig, **{"behaviour.steady_hold_s": 1.0, "behaviour.steady_angle_rad": 0.1})
-    _to(m, "confirm_point")
+    m = engaged_mission(rig, **{"behaviour.steady_hold_s": 1.0, "behaviour.steady_angle_rad": 0.1})
+    enter(m, "confirm_point")
     wobbly = [_result(True, image_angle=0.3 * (i % 2)) for i in range(10)]
-    _feed(m, wobbly)
+    feed(m, wobbly)
     assert m.state == "confirm_point"
-    fired = _feed(m, [_result(True, image_angle=0.01 * (i % 2)) for i in range(6)], t0=2.0)
+    fired = feed(m, [_result(True, image_angle=0.01 * (i % 2)) for i in range(6)], t0=2.0)
     assert fired[-1] == "steady" and m.state == "select_target"
 
 
 def test_confirm_point_goes_back_when_the_arm_is_lowered(rig):
-    m = _mission(rig, **{"behaviour.arm_lost_frames": 3})
-    _to(m, "confirm_point")
-    _feed(m, [_result(True), _result(False), _result(False)])
+    m = engaged_mission(rig, **{"behaviour.arm_lost_frames": 3})
+    enter(m, "confirm_point")
+    feed(m, [_result(True), _result(False), _result(False)])
     assert m.state == "confirm_point"
-    _feed(m, [_result(False)])
+    feed(m, [_result(False)])
     assert m.state == "wait_for_diver"
 
 
 def test_confirm_point_times_out(rig):
-    m = _mission(rig, **{"behaviour.confirm_timeout_s": 1.0})
-    _to(m, "confirm_point")
+    m = engaged_mission(rig, **{"behaviour.confirm_timeout_s": 1.0})
+    enter(m, "confirm_point")
     m.bb.now_s = 1.5
     assert m.tick() == "timeout" and m.state == "wait_for_diver"
 
 
 def test_select_target_clear_winner_is_acknowledged_and_tracked(rig):
-    m = _mission(rig, **{"behaviour.vote_frames": 4, "behaviour.min_votes": 3})
-    _to(m, "select_target")
-    fired = _feed(m, [_result(target_xyz=(0.5, 0.0, 2.0 + 0.01 * i)) for i in range(4)])
+    m = engaged_mission(rig, **{"behaviour.vote_frames": 4, "behaviour.min_votes": 3})
+    enter(m, "select_target")
+    fired = feed(m, [_result(target_xyz=(0.5, 0.0, 2.0 + 0.01 * i)) for i in range(4)])
     assert fired[-1] == "winner" and m.state == "acknowledge"
     # the chosen position is the frames' probability-weighted mean (the fused geometry); the tracker
     # starts from the latest sighting
@@ -170,16 +146,16 @@ def test_select_target_clear_winner_is_acknowledged_and_tracked(rig):
 
 def test_select_target_split_or_ambiguous_votes_go_back_to_confirm(rig):
     # the fused decision keeps gathering frames until behaviour.select_timeout_s, then goes back
-    m = _mission(rig, **{"behaviour.vote_frames": 4, "behaviour.min_votes": 3, "behaviour.select_timeout_s": 2.0,
+    m = engaged_mission(rig, **{"behaviour.vote_frames": 4, "behaviour.min_votes": 3, "behaviour.select_timeout_s": 2.0,
                          "behaviour.second_look_max_tries": 0})  # (the second look: test_point_decision.py)
-    _to(m, "select_target")
+    enter(m, "select_target")
     split = [_result(target_xyz=(0.5, 0, 2.0)), _result(target_xyz=(1.5, 0, 3.0))] * 5
-    fired = _feed(m, split + [None])
+    fired = feed(m, split + [None])
     assert "winner" not in fired and fired[-1] == "ambiguous" and m.state == "confirm_point"
-    m = _mission(rig, **{"behaviour.vote_frames": 4, "behaviour.min_votes": 3, "behaviour.select_timeout_s": 0.9})
-    _to(m, "select_target")
+    m = engaged_mission(rig, **{"behaviour.vote_frames": 4, "behaviour.min_votes": 3, "behaviour.select_timeout_s": 0.9})
+    enter(m, "select_target")
     unsure = [_result(), _result(ambiguous=True, confidence=0.4), _result(ambiguous=True, confidence=0.4), _result()]
-    fired = _feed(m, unsure + [None])
+    fired = feed(m, unsure + [None])
     assert "winner" not in fired and fired[-1] == "ambiguous"
 
 
@@ -187,8 +163,8 @@ def test_disengage_goes_idle_or_suspends_with_a_target_but_stale_perception_only
     for state in STATES:
         if state in ("idle", "suspended"):
             continue
-        m = _mission(rig)
-        _to(m, state)
+        m = engaged_mission(rig)
+        enter(m, state)
         m.bb.engaged, m.bb.hold_reason = False, PERCEPTION_STALE
         m.tick()
         assert m.state == state
@@ -199,21 +175,21 @@ def test_disengage_goes_idle_or_suspends_with_a_target_but_stale_perception_only
             assert m.tick() == "disengage" and m.state == "idle" and m.bb.command is None
 
 
-def test_an_operator_disable_or_another_cause_still_ends_the_mission(rig):
+def test_an_operator_disable_or_another_cause_still_ends_theengaged_mission(rig):
     for reason in ("not enabled by the operator", "SYSID_MYGCS not read yet", ""):
-        m = _mission(rig)
-        _to(m, "servo")
+        m = engaged_mission(rig)
+        enter(m, "servo")
         m.bb.engaged, m.bb.hold_reason = False, reason
         assert m.tick() == "disengage" and m.state == "idle", reason
 
 
 def test_acknowledge_nod_returns_to_the_start_heading_then_servo(rig):
-    m = _mission(rig, **{"behaviour.ack_kind": "nod"})
+    m = engaged_mission(rig, **{"behaviour.ack_kind": "nod"})
     steps, total = ack_schedule(m.bb.config)
     net = sum(s.yaw_rate_rad_s * ((steps[i + 1].start_s if i + 1 < len(steps) else total) - s.start_s)
               for i, s in enumerate(steps))
     assert abs(net) < 1e-9
-    _to(m, "acknowledge")
+    enter(m, "acknowledge")
     rates = []
     t = 0.0
     while m.state == "acknowledge" and t < 10:
@@ -226,8 +202,8 @@ def test_acknowledge_nod_returns_to_the_start_heading_then_servo(rig):
 
 
 def test_acknowledge_lights_flashes_the_servo_output(rig):
-    m = _mission(rig, **{"behaviour.ack_kind": "lights", "behaviour.ack_flashes": 2})
-    _to(m, "acknowledge")
+    m = engaged_mission(rig, **{"behaviour.ack_kind": "lights", "behaviour.ack_flashes": 2})
+    enter(m, "acknowledge")
     for k in range(200):
         m.bb.now_s = k * 0.02
         m.tick()
@@ -236,8 +212,8 @@ def test_acknowledge_lights_flashes_the_servo_output(rig):
 
 
 def test_lost_target_gives_up_after_the_timeout(rig):
-    m = _mission(rig, **{"behaviour.lost_timeout_s": 2.0, "behaviour.abort_hold_s": 1.0})
-    _to(m, "lost_target")
+    m = engaged_mission(rig, **{"behaviour.lost_timeout_s": 2.0, "behaviour.abort_hold_s": 1.0})
+    enter(m, "lost_target")
     for k in range(1, 120):
         m.bb.now_s = k * 0.02
         m.bb.observation = Observation(m.bb.now_s, k, track=TrackFrame(Candidates.empty(), np.zeros((0, 3))))
@@ -249,23 +225,23 @@ def test_lost_target_gives_up_after_the_timeout(rig):
 
 
 def test_done_reports_and_waits_for_the_arm_to_come_down(rig):
-    m = _mission(rig, **{"behaviour.release_frames": 3})
-    _to(m, "done")
+    m = engaged_mission(rig, **{"behaviour.release_frames": 3})
+    enter(m, "done")
     assert m.bb.arrived and any(isinstance(o, StatusText) and "arrived" in o.text for o in m.bb.outbox)
-    _feed(m, [_result(True)] * 5)
+    feed(m, [_result(True)] * 5)
     assert m.state == "done"
-    _feed(m, [_result(False)] * 3)
+    feed(m, [_result(False)] * 3)
     assert m.state == "wait_for_diver"
 
 
 # ----------------------------------------------------------------------------- suspend and resume
 def _servoing(rig, **over):
     """A mission servoing to a tracked target (seen at t = 0), engaged and enabled."""
-    m = _mission(rig, **over)
+    m = engaged_mission(rig, **over)
     cands, pts, obj = target_frame(rig)
     m.bb.tracker.start(obj, cands, 0.0)
     m.bb.operator_enabled = True
-    _to(m, "servo")
+    enter(m, "servo")
     return m, TrackFrame(cands, pts)
 
 
@@ -300,7 +276,7 @@ def test_suspend_reasons_are_the_links_enable_clearing_reasons():
 @pytest.mark.parametrize("state", ["servo", "lost_target", "arrive"])
 def test_a_loss_during_the_approach_stops_motion_at_once_and_keeps_the_target(rig, state, reason):
     m, frame = _servoing(rig)
-    _to(m, state)
+    enter(m, state)
     m.bb.set_command(VelocityCommand(surge_m_s=0.2))
     assert _lose_link(m, 0.1, reason) == "suspend"
     assert m.state == "suspended" and m.bb.command is None and m.needs == "track"

@@ -11,26 +11,17 @@ from behaviours.acknowledge import shake_schedule
 from behaviours.blackboard import Observation, StatusText, TrackFrame
 from behaviours.fusion import NONE, PointFusion
 from behaviours.gesture import StopGestureWatch, stop_gesture_seen
-from behaviours.loop import build_mission
 from behaviours.machine import STATES
-from dip3d_vehicle.config import load_params
 from dip3d_vehicle.perception.pipeline import PerceptionResult
 from dip3d_vehicle.perception.values import Arm3D, ArmKeypoints, Candidates, ObjectCandidate, Selection
 from sitl.scenario import load_scenario
+from mission_driver import engaged_mission, FRAME_S, enter
 
-FRAME_S = 0.2
 
 
 @pytest.fixture(scope="module")
 def rig():
     return load_scenario("paper_pool", 0).rig()
-
-
-def _mission(rig, **over):
-    params = load_params(overrides={k: str(v) for k, v in over.items()})
-    m = build_mission(params, rig, (1600, 1200))
-    m.bb.engaged = True
-    return m
 
 
 def _arm(raised: bool = True, stop: bool = False) -> tuple[ArmKeypoints, Arm3D]:
@@ -80,11 +71,6 @@ def _feed(m, results, t0: float = 0.0, track: bool = False):
     return fired
 
 
-def _to(m, state: str):
-    m.machine.set_state(state)
-    m.behaviours[state].enter(m.bb)
-
-
 # ----------------------------------------------------------------------------- fusion
 def test_consistent_but_ambiguous_frames_fuse_into_one_decision():
     f = PointFusion(0.3, temper=0.5, floor_p=0.02, max_effective_frames=4)
@@ -132,8 +118,8 @@ def test_objects_are_matched_by_position_and_their_geometry_is_averaged():
 
 # ----------------------------------------------------------------------------- nothing there
 def test_select_target_goes_to_nothing_there_which_shakes_tells_and_waits(rig):
-    m = _mission(rig, **{"behaviour.vote_frames": 4, "behaviour.min_votes": 3, "behaviour.release_frames": 3})
-    _to(m, "select_target")
+    m = engaged_mission(rig, **{"behaviour.vote_frames": 4, "behaviour.min_votes": 3, "behaviour.release_frames": 3})
+    enter(m, "select_target")
     fired = _feed(m, [_frame({1.0: 0.05, 2.0: 0.03}, 0.92)] * 4)
     assert fired[-1] == "nothing_there" and m.state == "nothing_there" and m.bb.chosen is None
     assert not m.bb.tracker.active
@@ -158,9 +144,9 @@ def test_select_target_goes_to_nothing_there_which_shakes_tells_and_waits(rig):
 
 
 def test_the_point_evidence_survives_an_ambiguous_round_trip_but_not_a_new_direction(rig):
-    m = _mission(rig, **{"behaviour.vote_frames": 4, "behaviour.select_timeout_s": 0.5,
+    m = engaged_mission(rig, **{"behaviour.vote_frames": 4, "behaviour.select_timeout_s": 0.5,
                          "behaviour.second_look_max_tries": 0})
-    _to(m, "select_target")
+    enter(m, "select_target")
     _feed(m, [_frame({1.0: 0.5, 2.0: 0.4}, 0.1)] * 2 + [None])
     assert m.state == "confirm_point" and len(m.bb.fusion.frames) == 2
     _feed(m, [_frame({1.0: 0.5, 2.0: 0.4}, 0.1)], t0=m.bb.now_s)
@@ -209,8 +195,8 @@ def test_a_missed_pose_frame_does_not_break_the_stop_gesture_but_a_long_gap_does
 
 @pytest.mark.parametrize("state", [s for s in STATES if s not in ("idle", "stopped")])
 def test_the_stop_gesture_holds_the_vehicle_from_every_state(rig, state):
-    m = _mission(rig, **{"behaviour.stop_gesture_hold_s": 1.0})
-    _to(m, state)
+    m = engaged_mission(rig, **{"behaviour.stop_gesture_hold_s": 1.0})
+    enter(m, state)
     track = m.needs == "track"
     fired = _feed(m, [_frame({1.0: 0.9}, 0.05, stop=True)] * 6, track=track)  # 0.2 .. 1.2 s
     assert fired[-1] == "stop_gesture" and "stop_gesture" not in fired[:-1]
@@ -223,10 +209,10 @@ def test_the_stop_gesture_holds_the_vehicle_from_every_state(rig, state):
 
 
 def test_the_stop_gesture_is_ignored_when_switched_off_or_in_idle(rig):
-    m = _mission(rig, **{"behaviour.stop_gesture": "false"})
-    _to(m, "servo")
+    m = engaged_mission(rig, **{"behaviour.stop_gesture": "false"})
+    enter(m, "servo")
     assert "stop_gesture" not in _feed(m, [_frame({1.0: 0.9}, 0.05, stop=True)] * 10, track=True)
-    m = _mission(rig)
+    m = engaged_mission(rig)
     m.bb.engaged = False
     assert "stop_gesture" not in _feed(m, [_frame({1.0: 0.9}, 0.05, stop=True)] * 10)
 
@@ -254,10 +240,10 @@ def _close_pair():
 
 
 def test_close_objects_at_the_timeout_take_a_bounded_second_look_then_decide_again(rig):
-    m = _mission(rig, **{"behaviour.select_timeout_s": 1.0, "behaviour.second_look_max_tries": 1,
+    m = engaged_mission(rig, **{"behaviour.select_timeout_s": 1.0, "behaviour.second_look_max_tries": 1,
                          "behaviour.second_look_step_m": 0.3, "behaviour.second_look_speed_m_s": 0.15,
                          "behaviour.second_look_settle_s": 0.6})
-    _to(m, "select_target")
+    enter(m, "select_target")
     fired = _feed(m, [_close_pair()] * 5 + [None])
     assert fired[-1] == "second_look" and m.state == "second_look" and m.bb.second_looks == 1
     assert any(isinstance(o, StatusText) and "second look" in o.text for o in m.bb.outbox)
@@ -281,16 +267,16 @@ def test_close_objects_at_the_timeout_take_a_bounded_second_look_then_decide_aga
 
 
 def test_the_second_look_stops_and_waits_when_the_diver_leaves_the_view(rig):
-    m = _mission(rig, **{"behaviour.select_timeout_s": 1.0, "behaviour.arm_lost_frames": 3})
-    _to(m, "select_target")
+    m = engaged_mission(rig, **{"behaviour.select_timeout_s": 1.0, "behaviour.arm_lost_frames": 3})
+    enter(m, "select_target")
     assert _feed(m, [_close_pair()] * 5 + [None])[-1] == "second_look"
     fired = _feed(m, [_frame({0.3: 0.45}, 0.1, raised=False)] * 3, t0=m.bb.now_s)
     assert fired[-1] == "arm_lost" and m.state == "wait_for_diver" and m.bb.command is None
 
 
 def test_no_second_look_when_nothing_detected_is_one_of_the_two(rig):
-    m = _mission(rig, **{"behaviour.select_timeout_s": 1.0})
-    _to(m, "select_target")
+    m = engaged_mission(rig, **{"behaviour.select_timeout_s": 1.0})
+    enter(m, "select_target")
     fired = _feed(m, [_frame({0.3: 0.45}, 0.55)] * 5 + [None])
     assert "ambiguous" in fired and "second_look" not in fired and m.state == "confirm_point"
 
@@ -305,7 +291,7 @@ def test_a_placard_split_into_two_clusters_in_one_frame_is_one_hypothesis():
 def test_each_frame_of_a_held_point_is_decided_again_with_the_held_arm(rig):
     """With ``decide_held`` (the perception core's), every usable frame is re-decided with the mean arm
     of the last ``behaviour.fusion_arm_frames`` frames, and the story says how many arms it used."""
-    m = _mission(rig, **{"behaviour.vote_frames": 4, "behaviour.min_votes": 3, "behaviour.fusion_arm_frames": 3})
+    m = engaged_mission(rig, **{"behaviour.vote_frames": 4, "behaviour.min_votes": 3, "behaviour.fusion_arm_frames": 3})
     calls = []
 
     def sharper(arm, frames, result):
@@ -313,7 +299,7 @@ def test_each_frame_of_a_held_point_is_decided_again_with_the_held_arm(rig):
         return _frame({1.0: 0.9, 2.0: 0.02}, 0.08)
 
     m.bb.decide_held = sharper
-    _to(m, "select_target")
+    enter(m, "select_target")
     fired = _feed(m, [_frame({1.0: 0.55, 2.0: 0.1}, 0.35)] * 4 + [PerceptionResult("no_pose", "no person")])
     assert [n for n, _ in calls] == [1, 2, 3, 3]  # a window of 3; the frame without an arm is not re-decided
     assert all("mean of" in source for _, source in calls)
