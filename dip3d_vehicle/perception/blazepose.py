@@ -398,9 +398,8 @@ class BlazePoseEstimator(PoseEstimator):
     def estimate(self, left_rect: np.ndarray, right_rect: np.ndarray, rig: StereoRig) -> ArmKeypoints | None:
         """Return the arm in rectified pixels of both images (confidence = visibility), or None."""
         self._body_disparity_px = None
-        both = None
-        if not (self.joint_disparity == "stereo" and not self.concurrent_eyes):
-            both = self._both_concurrently(left_rect, right_rect, rig.disparity_sign)
+        matched_eye = self.joint_disparity == "stereo" and not self.concurrent_eyes
+        both = None if matched_eye else self._both_concurrently(left_rect, right_rect, rig.disparity_sign)
         if both is not None and both[0] is not None:
             left, right = both
             self._left.update(left, self.tracking)
@@ -408,7 +407,7 @@ class BlazePoseEstimator(PoseEstimator):
             left = self.pose.process(left_rect) if both is not None else self._follow(left_rect, self._left)
             self._left.update(left, self.tracking)
             right = None
-            if left is not None and self.joint_disparity == "stereo" and not self.concurrent_eyes:
+            if left is not None and matched_eye:
                 matched = self._matched(left_rect, right_rect, left, rig)
                 if matched is not None:
                     return matched
@@ -425,10 +424,8 @@ class BlazePoseEstimator(PoseEstimator):
         elif self.joint_disparity == "stereo":
             found = self.stereo_joints(left_rect, right_rect, left, rig)
             if found is not None:
-                rxy = np.c_[lxy[:, 0] - found.disparity_px, lxy[:, 1]]
-                sigma = np.maximum(found.sigma_px, self.disparity_floor_px * JOINT_FLOOR_FACTOR)
-        return ArmKeypoints(self.arm, lxy, rxy, lconf, rconf, source="blazepose", extra_left_px=_extra(left, self.arm),
-                            disparity_sigma_px=sigma, keypoint_sigma_m=self.keypoint_sigma_m)
+                rxy, sigma = self._matched_right(lxy, found)
+        return self._arm_keypoints(left, rxy, rconf, sigma)
 
     def _matched(self, left_rect: np.ndarray, right_rect: np.ndarray, left: PoseLandmarks,
                  rig: StereoRig) -> ArmKeypoints | None:
@@ -450,11 +447,20 @@ class BlazePoseEstimator(PoseEstimator):
         self._right.update(None, self.tracking)
         self.last = (left, None)
         lxy, lconf = left.arm(self.arm)
+        rxy, sigma = self._matched_right(lxy, found)
+        return self._arm_keypoints(left, rxy, lconf.copy(), sigma)
+
+    def _matched_right(self, lxy: np.ndarray, found: JointDisparity) -> tuple[np.ndarray, np.ndarray]:
+        """Return the right-image joints at the matched disparities and their disparity sigma, pixels."""
         rxy = np.c_[lxy[:, 0] - found.disparity_px, lxy[:, 1]]
-        sigma = np.maximum(found.sigma_px, self.disparity_floor_px * JOINT_FLOOR_FACTOR)
-        return ArmKeypoints(self.arm, lxy, rxy, lconf, lconf.copy(), source="blazepose",
-                            extra_left_px=_extra(left, self.arm), disparity_sigma_px=sigma,
-                            keypoint_sigma_m=self.keypoint_sigma_m)
+        return rxy, np.maximum(found.sigma_px, self.disparity_floor_px * JOINT_FLOOR_FACTOR)
+
+    def _arm_keypoints(self, left: PoseLandmarks, rxy: np.ndarray, rconf: np.ndarray,
+                       sigma: np.ndarray | None) -> ArmKeypoints:
+        """Return the arm: the left landmarks' joints, ``rxy`` in the right image, the hand and the errors."""
+        lxy, lconf = left.arm(self.arm)
+        return ArmKeypoints(self.arm, lxy, rxy, lconf, rconf, source="blazepose", extra_left_px=_extra(left, self.arm),
+                            disparity_sigma_px=sigma, keypoint_sigma_m=self.keypoint_sigma_m)
 
     def stereo_joints(self, left_rect: np.ndarray, right_rect: np.ndarray, left: PoseLandmarks,
                       rig: StereoRig) -> JointDisparity | None:
