@@ -417,7 +417,7 @@ class BlazePoseEstimator(PoseEstimator):
         self.last = (left, right)
         if left is None or right is None:
             return None
-        (lxy, lconf), (rxy, rconf) = left.arm(self.arm), right.arm(self.arm)
+        lxy, (rxy, rconf) = left.arm(self.arm)[0], right.arm(self.arm)
         sigma = None
         if self.joint_disparity == "match":
             rxy = match_joint_disparity(left_rect, right_rect, lxy, rxy, rig.disparity_sign)

@@ -117,7 +117,7 @@ def group_objects(candidates: Candidates, xyz_m: np.ndarray, rig: StereoRig, rad
     labels = _components(n, pairs)
     Q = normalize_q(rig.Q, rig.disparity_sign)
     groups = [np.nonzero(labels == k)[0] for k in range(labels.max() + 1)]
-    centres = _centres(candidates, Q, groups)
+    centres = _centres(candidates, Q, groups)[1]
     ok = np.all(np.isfinite(centres), axis=1)
     if ok.sum() > 1:
         idx = np.nonzero(ok)[0]
@@ -128,11 +128,9 @@ def group_objects(candidates: Candidates, xyz_m: np.ndarray, rig: StereoRig, rad
             close = close[np.abs(za - zb) <= tol]
         merged = _components(len(idx), close)
         groups = [np.concatenate([groups[idx[k]] for k in np.nonzero(merged == m)[0]]) for m in range(merged.max() + 1)]
+    groups = [g for g in groups if len(g) >= min_features]
     out = []
-    for members in groups:
-        if len(members) < min_features:
-            continue
-        px, centre = _centre(candidates, Q, members)
+    for members, px, centre in zip(groups, *_centres(candidates, Q, groups)):
         if not np.all(np.isfinite(centre)) or centre[2] <= 0:
             continue
         sigma = float(rig.depth_sigma_m(centre[2], max(1.25 * MATCH_SIGMA_PX / math.sqrt(len(members)), 0.1)))
@@ -148,8 +146,8 @@ def _components(n: int, pairs: np.ndarray) -> np.ndarray:
     return connected_components(graph, directed=False)[1]
 
 
-def _centres(candidates: Candidates, Q: np.ndarray, groups: list[np.ndarray]) -> np.ndarray:
-    """Return the triangulated centre of every group (as ``_centre``, single features without a median), metres."""
+def _centres(candidates: Candidates, Q: np.ndarray, groups: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
+    """Return every group's (median left px, centre triangulated at the median disparity), pixels and metres."""
     px = np.empty((len(groups), 2))
     disp = np.empty(len(groups))
     all_disp = candidates.disparity_px
@@ -158,14 +156,7 @@ def _centres(candidates: Candidates, Q: np.ndarray, groups: list[np.ndarray]) ->
             px[k], disp[k] = candidates.left_px[g[0]], all_disp[g[0]]
         else:
             px[k], disp[k] = np.median(candidates.left_px[g], axis=0), np.median(all_disp[g])
-    return triangulate(Q, px, disp) if len(groups) else np.zeros((0, 3))
-
-
-def _centre(candidates: Candidates, Q: np.ndarray, members: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Return (median left px, triangulated centre) of a group of features."""
-    px = np.median(candidates.left_px[members], axis=0)
-    disp = float(np.median(candidates.disparity_px[members]))
-    return px, triangulate(Q, px[None], [disp])[0]
+    return px, (triangulate(Q, px, disp) if len(groups) else np.zeros((0, 3)))
 
 
 @dataclass(frozen=True)
