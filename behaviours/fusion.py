@@ -195,7 +195,7 @@ class PointFusion:
         probs = frame_probabilities(result, self.no_objects_none_p)
         if probs is None:
             return None
-        if result.arm is not None and getattr(result.arm, "keypoint_sigma_m", None):
+        if result.arm is not None and result.arm.keypoint_sigma_m:
             self.shared_error = True
         objects, p_none = probs
         floor = self._log(0.0)

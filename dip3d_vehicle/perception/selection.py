@@ -428,7 +428,7 @@ class DefaultSelector(PointingSelector):
                              "no object with enough matched features")
         rows = (arm.left_px[:, 1] + arm.right_px[:, 1]) / 2.0
         rays = _rays(np.c_[arm.left_px[:, 0], rows], rig)
-        given = getattr(arm, "keypoint_sigma_m", None)
+        given = arm.keypoint_sigma_m
         keypoint_sigma_m = self.model.keypoint_sigma_m if given is None else float(given)
         fit = _PointingFit(rays, arm3d.xyz_m[:, 2], arm3d.depth_sigma_m, self.model, keypoint_sigma_m)
         obj_rays = _rays(np.array([o.left_px for o in objects]), rig)
