@@ -16,7 +16,10 @@ model that places its landmarks off the joints' centres (``ArmKeypoints.keypoint
 ~5 cm at the body) widens the limb lengths, the bend and the pointing sigma by that error: at 5 m an
 arm seen foreshortened says little about its tilt, and the fit must not pretend otherwise. The fit's
 cost becomes a posterior over objects: confidence = posterior of the best, ambiguity margin =
-difference in log-likelihood between the best and the second best.
+difference in log-likelihood between the best and the second best (``selection.evidence: laplace``,
+the Occam factor below). The default evidence (``sampled``, ``evidence.py``) instead averages the
+pointing density at each object over draws of the arm weighted by the same priors, which keeps the
+two tilts (toward / away) a foreshortened arm's limb lengths allow, where a Gaussian blurs them.
 """
 
 from __future__ import annotations
@@ -32,6 +35,7 @@ from scipy.sparse.csgraph import connected_components
 from scipy.spatial import cKDTree
 
 from .calibration import StereoRig
+from .evidence import arm_evidence
 from .triangulation import normalize_q, triangulate
 from .values import Arm3D, ArmKeypoints, Candidates, ObjectCandidate, Selection
 
@@ -363,7 +367,7 @@ class OpenSet:
     """
 
     none_prior: float = 0.25
-    none_solid_angle_sr: float = 1.0
+    none_solid_angle_sr: float = 0.7
     gate_sigmas: float = 4.0
     gate_min_rad: float = 0.26
     none_min_probability: float = 0.5
@@ -408,8 +412,9 @@ class DefaultSelector(PointingSelector):
 
     def __init__(self, model: ArmModel = ArmModel(), group_radius_px: float = 20.0, group_radius_m: float = 0.05,
                  min_object_features: int = 3, min_confidence: float = 0.6, object_radius_m: float = 0.15,
-                 open_set: OpenSet = OpenSet()) -> None:
+                 open_set: OpenSet = OpenSet(), evidence: str = "sampled", evidence_samples: int = 2048) -> None:
         self.model, self.open_set = model, open_set
+        self.evidence, self.evidence_samples = evidence, evidence_samples
         self.object_radius_m = object_radius_m
         self.group_radius_px, self.group_radius_m = group_radius_px, group_radius_m
         self.min_object_features, self.min_confidence = min_object_features, min_confidence
@@ -431,13 +436,16 @@ class DefaultSelector(PointingSelector):
         given = arm.keypoint_sigma_m
         keypoint_sigma_m = self.model.keypoint_sigma_m if given is None else float(given)
         fit = _PointingFit(rays, arm3d.xyz_m[:, 2], arm3d.depth_sigma_m, self.model, keypoint_sigma_m)
-        obj_rays = _rays(np.array([o.left_px for o in objects]), rig)
         shapes = np.stack([object_shape(xyz_m[list(o.members)], o.xyz_m) for o in objects])
-        costs = fit.costs(obj_rays, np.array([o.xyz_m[2] for o in objects]),
-                          np.array([o.depth_sigma_m for o in objects]), shapes)
         allowed = image_gate(arm, objects, [candidates.left_px[list(o.members)] for o in objects], rig, arm3d,
                              self.model, self.open_set, fit.pointing_sigma_rad)
-        log_odds = self._log_odds(costs, fit.arm_cost(), objects, arm, arm3d, fit.pointing_sigma_rad)
+        if self.evidence == "sampled":
+            log_odds = self._sampled_log_odds(keypoint_sigma_m, rays, arm3d, objects, shapes, rig)
+        else:
+            obj_rays = _rays(np.array([o.left_px for o in objects]), rig)
+            costs = fit.costs(obj_rays, np.array([o.xyz_m[2] for o in objects]),
+                              np.array([o.depth_sigma_m for o in objects]), shapes)
+            log_odds = self._log_odds(costs, fit.arm_cost(), objects, arm, arm3d, fit.pointing_sigma_rad)
         log_odds = np.where(allowed, log_odds, -np.inf)
         top = max(float(log_odds.max()), 0.0)
         weights = np.exp(log_odds - top)
@@ -462,6 +470,26 @@ class DefaultSelector(PointingSelector):
         confidence = mass
         return Selection(best, tuple(objects), post, confidence, float(margin), self.method,
                          confidence < self.min_confidence, float(p_none))
+
+    def _sampled_log_odds(self, keypoint_sigma_m: float, rays: np.ndarray, arm3d: Arm3D,
+                          objects: list[ObjectCandidate], shapes: np.ndarray, rig: StereoRig) -> np.ndarray:
+        """Return each object's log odds against "nothing detected", the evidence averaged over the arm's draws.
+
+        A pose model's own landmark error (``keypoint_sigma_m``, metres at the body) is drawn as what it
+        is: each joint's image position off by that much at its depth, its depth by that much.
+        """
+        m, o = self.model, self.open_set
+        f = rig.focal_px
+        cx, cy = rig.principal_point_px
+        depth = arm3d.xyz_m[:, 2]
+        joints_px = np.c_[rays[:, 0] * f + cx, rays[:, 1] * f + cy]
+        sigma_px = np.hypot(m.keypoint_sigma_px, f * keypoint_sigma_m / np.maximum(depth, 0.1))
+        ev = arm_evidence(joints_px, depth, np.hypot(arm3d.depth_sigma_m, keypoint_sigma_m), f, (cx, cy), sigma_px,
+                          m.forearm_m, m.upperarm_m, m.length_sigma_m, m.straightness_sigma_m, m.pointing_sigma_rad,
+                          m.object_extent_m, [obj.xyz_m + shape for obj, shape in zip(objects, shapes)],
+                          np.array([obj.depth_sigma_m for obj in objects]), self.evidence_samples)
+        prior = math.log((1.0 - o.none_prior) / (len(objects) * o.none_prior))
+        return prior + math.log(o.none_solid_angle_sr) + ev.log_density
 
     def _log_odds(self, costs: np.ndarray, arm_cost: float, objects: list[ObjectCandidate], arm: ArmKeypoints,
                   arm3d: Arm3D, pointing_sigma_rad: float | None = None) -> np.ndarray:
@@ -521,4 +549,5 @@ def make_selector(params: Mapping) -> PointingSelector:
     return DefaultSelector(arm_model_from_params(params), params["selection.group_radius_px"],
                            params["selection.group_radius_m"], params["selection.min_object_features"],
                            params["selection.min_confidence"], params["selection.object_radius_m"],
-                           open_set_from_params(params))
+                           open_set_from_params(params), params["selection.evidence"],
+                           params["selection.evidence_samples"])

@@ -57,7 +57,7 @@ def test_held_arm_sharpens_the_open_set_decision(tmp_path):
 
     single = {"correct": 0, "confident_wrong": 0, "none_p": []}
     held_out = {"correct": 0, "confident_wrong": 0, "none_p": []}
-    for k, scene in enumerate(sf.scenes(tmp_path, "far", 3, 11)):
+    for k, scene in enumerate(sf.scenes(tmp_path, "far", 6, 11)):
         truth = scene.frame.meta["keypoints_truth"]
         rig = scene.scenario.rig()
         left, right = rig.rectify(scene.frame.left, scene.frame.right)

@@ -210,7 +210,7 @@ def test_open_set_families_never_confidently_wrong(tmp_path):
     """
     import scene_families as sf
     tally = sf.Tally()
-    for family, n in (("far", 3), ("elbow", 3), ("undetectable", 6)):
+    for family, n in (("far", 3), ("elbow", 3), ("undetectable", 12)):
         sf.tally_family(tmp_path, family, n, 2, seed0=0, noise_px=(2.0,), profiles=("default",), tally=tally)
     print(sf.report(tally, noise_px=(2.0,), families=("far", "undetectable", "elbow")))
     hit, total = tally.merged_recall("default", ("far", "elbow"))
