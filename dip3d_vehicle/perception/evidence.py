@@ -72,8 +72,10 @@ def _place(ray: np.ndarray, start: np.ndarray, length: np.ndarray, sign: np.ndar
     return (b + sign * np.sqrt(np.where(disc > 0, disc, np.nan))) / a
 
 
-def _arm_draws(joints_px, depth_m, depth_sigma_m, focal_px, principal_px, keypoint_sigma_px, forearm_m,
-               upperarm_m, length_sigma_m, straightness_sigma_m, draws: _Draws):
+def _arm_draws(joints_px: np.ndarray, depth_m: np.ndarray, depth_sigma_m: np.ndarray, focal_px: float,
+               principal_px: tuple[float, float], keypoint_sigma_px, forearm_m: tuple[float, float],
+               upperarm_m: tuple[float, float], length_sigma_m: float, straightness_sigma_m: float,
+               draws: _Draws) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Return draws of the shoulder and wrist (S, 3) and their normalised weights under the arm's posterior.
 
     Two proposals, half the draws each (a defensive mixture): every joint's depth from its stereo
