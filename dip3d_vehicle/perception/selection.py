@@ -440,7 +440,11 @@ class DefaultSelector(PointingSelector):
         allowed = image_gate(arm, objects, [candidates.left_px[list(o.members)] for o in objects], rig, arm3d,
                              self.model, self.open_set, fit.pointing_sigma_rad)
         if self.evidence == "sampled":
-            log_odds = self._sampled_log_odds(keypoint_sigma_m, rays, arm3d, objects, shapes, rig)
+            log_odds = np.full(len(objects), -np.inf)
+            if np.any(allowed):  # an object the image gate rules out never wins: no evidence needed
+                idx = np.flatnonzero(allowed)
+                log_odds[idx] = self._sampled_log_odds(keypoint_sigma_m, rays, arm3d, [objects[i] for i in idx],
+                                                       shapes[idx], rig, len(objects))
         else:
             obj_rays = _rays(np.array([o.left_px for o in objects]), rig)
             costs = fit.costs(obj_rays, np.array([o.xyz_m[2] for o in objects]),
@@ -472,8 +476,11 @@ class DefaultSelector(PointingSelector):
                          confidence < self.min_confidence, float(p_none))
 
     def _sampled_log_odds(self, keypoint_sigma_m: float, rays: np.ndarray, arm3d: Arm3D,
-                          objects: list[ObjectCandidate], shapes: np.ndarray, rig: StereoRig) -> np.ndarray:
+                          objects: list[ObjectCandidate], shapes: np.ndarray, rig: StereoRig,
+                          n_objects: int) -> np.ndarray:
         """Return each object's log odds against "nothing detected", the evidence averaged over the arm's draws.
+
+        ``n_objects`` is the number of objects in the frame (the prior shares 1 - none_prior among all).
 
         A pose model's own landmark error (``keypoint_sigma_m``, metres at the body) is drawn as what it
         is: each joint's image position off by that much at its depth, its depth by that much.
@@ -488,7 +495,7 @@ class DefaultSelector(PointingSelector):
                           m.forearm_m, m.upperarm_m, m.length_sigma_m, m.straightness_sigma_m, m.pointing_sigma_rad,
                           m.object_extent_m, [obj.xyz_m + shape for obj, shape in zip(objects, shapes)],
                           np.array([obj.depth_sigma_m for obj in objects]), self.evidence_samples)
-        prior = math.log((1.0 - o.none_prior) / (len(objects) * o.none_prior))
+        prior = math.log((1.0 - o.none_prior) / (n_objects * o.none_prior))
         return prior + math.log(o.none_solid_angle_sr) + ev.log_density
 
     def _log_odds(self, costs: np.ndarray, arm_cost: float, objects: list[ObjectCandidate], arm: ArmKeypoints,
