@@ -1,0 +1,338 @@
+"""Candidates reused between frames: the matched features followed by optical flow, refreshed every K frames.
+
+While the diver points, the vehicle holds station: the candidates' features barely move from one
+frame to the next, yet the full candidate pass (SIFT on the kept half of both images, and the
+pointing corridor's CLAHE + SIFT) costs two thirds of a frame's CPU. ``CandidateReuse`` keeps the
+last full pass's matched pairs (main pass and corridor apart) and follows them into each new frame
+with pyramidal Lucas-Kanade flow in both rectified images. A followed pair is kept only if both
+eyes' flows converged, it still lies on one rectified row (``candidates.row_tolerance_px``) and its
+disparity changed by at most ``candidates.reuse_max_disparity_change_px`` per frame; the arm is measured on
+every frame, and each frame keeps the followed pairs inside ITS kept columns and corridor wedge.
+
+A new full pass runs in the background on one frame every ``candidates.reuse_frames`` (K) frames
+(one pass in flight at a time, on the greyscale images this module owns): it is taken K frames
+after it started (waiting for it if it is late, so the result does not depend on timing) and
+followed to that frame in one flow step. The decided frames therefore use features found at most
+2K - 1 frames earlier. The frame is computed afresh, exactly as without reuse, when there is
+nothing to follow (first frame, ``reset``), when fewer than ``candidates.reuse_min_tracked_fraction``
+of the pairs survive a flow step (the camera or the scene moved: a new scene, a moved object),
+when this frame's kept columns reach beyond the scanned ones, and (the corridor alone) when less
+than ``candidates.reuse_min_corridor_cover`` of this frame's wedge lies in the scanned wedge.
+
+Single frames (``perceive``, the scene-family checks) never reuse anything: their results are the
+full pass's. An object that enters the view, or appears, is found by the next background pass.
+"""
+
+from __future__ import annotations
+
+from concurrent.futures import Future
+from dataclasses import dataclass
+from typing import Mapping
+
+import cv2
+import numpy as np
+
+from .calibration import StereoRig
+from .candidates import SiftDetector, hand_extent_px, kept_columns
+from .corridor import CorridorDetector, corridor_polygon
+from .threads import shared_pool
+from .values import ArmKeypoints, Candidates
+
+__all__ = ["CandidateReuse", "Views", "follow_pairs", "views_of", "inside_polygon", "polygon_cover"]
+
+LK_WINDOW_PX = 21
+"""Lucas-Kanade window side, pixels (OpenCV's default)."""
+LK_LEVELS = 3
+"""Pyramid levels above full resolution: converges for shifts up to ~8 x the half window (~80 px)."""
+LK_MAX_RESIDUAL = 30.0
+"""Largest mean absolute grey difference (0-255) over the window of a followed feature."""
+COLUMN_SLACK_PX = 24
+"""This frame's kept columns may reach this far beyond the scanned ones (the sliver next to the
+hand is not looked at again before the next pass) before the frame is computed afresh."""
+COLUMN_MARGIN_PX = 80.0
+"""The background pass scans the kept columns widened by this toward the diver: a wrist that moves
+less than this keeps this frame's columns inside the scanned ones."""
+
+_CRITERIA = (cv2.TERM_CRITERIA_EPS | cv2.TERM_CRITERIA_COUNT, 20, 0.03)
+
+
+@dataclass(frozen=True)
+class Views:
+    """One rectified pair in grey (the reuse's own copies: a camera may reuse its buffers)."""
+
+    left: np.ndarray
+    right: np.ndarray
+
+
+def _grey(image: np.ndarray) -> np.ndarray:
+    """Return a uint8 single-channel copy of an image (BGR or grey)."""
+    return np.array(image, copy=True) if image.ndim == 2 else cv2.cvtColor(image, cv2.COLOR_BGR2GRAY)
+
+
+def views_of(left_rect: np.ndarray, right_rect: np.ndarray) -> Views:
+    """Return the grey pair of a rectified frame."""
+    return Views(_grey(left_rect), _grey(right_rect))
+
+
+def _flow(prev: np.ndarray, cur: np.ndarray, pts: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Return (new points, converged mask) of ``pts`` followed from one grey image to the next.
+
+    Both images are cut to the points' bounding box widened by the flow's reach (the pyramids
+    OpenCV builds for every call cost in proportion to the area).
+    """
+    if len(pts) == 0:
+        return np.zeros((0, 2)), np.zeros(0, bool)
+    h, w = prev.shape[:2]
+    reach = LK_WINDOW_PX * 2 ** LK_LEVELS
+    x0, y0 = np.maximum(np.floor(pts.min(axis=0)).astype(int) - reach, 0)
+    x1, y1 = np.minimum(np.ceil(pts.max(axis=0)).astype(int) + reach + 1, [w, h])
+    p0 = np.ascontiguousarray(pts - [x0, y0], np.float32).reshape(-1, 1, 2)
+    p1, status, err = cv2.calcOpticalFlowPyrLK(prev[y0:y1, x0:x1], cur[y0:y1, x0:x1], p0, None,
+                                               winSize=(LK_WINDOW_PX, LK_WINDOW_PX), maxLevel=LK_LEVELS,
+                                               criteria=_CRITERIA)
+    ok = (status.ravel() == 1) & (err.ravel() <= LK_MAX_RESIDUAL)
+    return p1.reshape(-1, 2).astype(np.float64) + [x0, y0], ok
+
+
+def follow_pairs(prev: Views, cur: Views, cands: Candidates, row_tolerance_px: float,
+                 max_disparity_change_px: float) -> tuple[Candidates, np.ndarray]:
+    """Return the matched pairs moved from ``prev`` to ``cur`` (every row) and which of them are still consistent.
+
+    A pair survives when both flows converged, both points lie in the image, their rows agree within
+    ``row_tolerance_px`` and the disparity changed by at most ``max_disparity_change_px``.
+    Descriptors and sizes are carried over (they describe the same physical features).
+    """
+    if len(cands) == 0:
+        return cands, np.zeros(0, bool)
+    left, ok_l = _flow(prev.left, cur.left, cands.left_px)
+    right, ok_r = _flow(prev.right, cur.right, cands.right_px)
+    h, w = cur.left.shape[:2]
+    inside = np.all((left >= 0) & (left <= [w - 1, h - 1]) & (right >= 0) & (right <= [w - 1, h - 1]), axis=1)
+    same_row = np.abs(left[:, 1] - right[:, 1]) <= row_tolerance_px
+    disp_step = np.abs((left[:, 0] - right[:, 0]) - cands.disparity_px)
+    keep = ok_l & ok_r & inside & same_row & (disp_step <= max_disparity_change_px)
+    return Candidates(left, right, cands.descriptors, cands.sizes_px), keep
+
+
+def inside_polygon(points_px: np.ndarray, poly: np.ndarray) -> np.ndarray:
+    """Return which points lie inside (or on) a convex polygon."""
+    if len(points_px) == 0:
+        return np.zeros(0, bool)
+    contour = np.asarray(poly, np.float32).reshape(-1, 1, 2)
+    return np.array([cv2.pointPolygonTest(contour, (float(x), float(y)), False) >= 0 for x, y in points_px], bool)
+
+
+def polygon_cover(poly: np.ndarray, scanned: np.ndarray, width: int, height: int) -> float:
+    """Return the fraction of ``poly``'s area inside the image that also lies inside ``scanned`` (convex)."""
+    frame = np.array([[0, 0], [width, 0], [width, height], [0, height]], np.float32)
+    area, clipped = cv2.intersectConvexConvex(np.asarray(poly, np.float32), frame)
+    if area <= 0 or clipped is None:
+        return 1.0
+    common, _ = cv2.intersectConvexConvex(clipped.reshape(-1, 2), np.asarray(scanned, np.float32))
+    return float(max(common, 0.0) / area)
+
+
+def _stack(a: Candidates, b: Candidates) -> Candidates:
+    """Return two candidate sets as one (descriptors and sizes kept where both have them)."""
+    same = a.descriptors.shape[1:] == b.descriptors.shape[1:] and len(a.descriptors) == len(a) \
+        and len(b.descriptors) == len(b)
+    desc = np.vstack([a.descriptors, b.descriptors]) if same else np.zeros((0, 0), np.float32)
+    sizes = np.r_[a.sizes_px, b.sizes_px] if len(a.sizes_px) == len(a) and len(b.sizes_px) == len(b) else np.zeros(0)
+    return Candidates(np.vstack([a.left_px, b.left_px]), np.vstack([a.right_px, b.right_px]), desc, sizes)
+
+
+@dataclass
+class _Scan:
+    """A full candidate pass of one frame: main-pass and corridor matches, and where it looked."""
+
+    views: Views
+    main: Candidates
+    corridor: Candidates | None            # None: the corridor was not scanned with this pass
+    cols: tuple[tuple[int, int], tuple[int, int]]
+    wedge: np.ndarray | None
+    frame: int                              # the frame (``CandidateReuse``'s count) the positions belong to
+
+
+@dataclass
+class _Job:
+    """A full pass running in the background, taken ``due`` frames from now."""
+
+    future: Future
+    due: int
+
+
+class CandidateReuse:
+    """Follows a frame sequence's candidate matches between full passes (see the module doc).
+
+    ``step`` and ``found`` are called from one thread (the perception core's); the background pass
+    runs on its own detectors (their SIFT objects are not shared with the core's).
+    """
+
+    def __init__(self, interval_frames: int, min_tracked_fraction: float, max_disparity_change_px: float,
+                 min_corridor_cover: float, detector: SiftDetector, corridor: CorridorDetector | None,
+                 row_tolerance_px: float) -> None:
+        self.interval_frames = int(interval_frames)
+        self.min_tracked_fraction = float(min_tracked_fraction)
+        self.max_disparity_change_px = float(max_disparity_change_px)
+        self.min_corridor_cover = float(min_corridor_cover)
+        self.row_tolerance_px = float(row_tolerance_px)
+        self.detector, self.corridor = detector, corridor
+        self.detector.concurrent = False            # the background pass runs in one thread
+        if corridor is not None:
+            corridor.concurrent = False
+        self.counts = {"fresh": 0, "reused": 0, "refreshed": 0, "lost": 0, "corridor_scans": 0}
+        self.last_reason = ""
+        self._state: _Scan | None = None
+        self._views: Views | None = None
+        self._job: _Job | None = None
+        self._scanned_now = False                    # this frame was computed afresh
+        self._frame = 0                              # frames taken by ``step``
+
+    @classmethod
+    def from_params(cls, params: Mapping) -> "CandidateReuse | None":
+        """Build the reuse from effective parameters; None when ``candidates.reuse_frames`` is below 2."""
+        if int(params["candidates.reuse_frames"]) < 2:
+            return None
+        corridor = CorridorDetector.from_params(params) if params.get("corridor.enabled") else None
+        return cls(params["candidates.reuse_frames"], params["candidates.reuse_min_tracked_fraction"],
+                   params["candidates.reuse_max_disparity_change_px"], params["candidates.reuse_min_corridor_cover"],
+                   SiftDetector.from_params(params), corridor, params["candidates.row_tolerance_px"])
+
+    def has_matches(self) -> bool:
+        """True when there are matches to follow into the next frame (it will probably be reused)."""
+        return self._state is not None
+
+    # -- per frame --------------------------------------------------------------------------------
+    def step(self, left_rect: np.ndarray, right_rect: np.ndarray) -> bool:
+        """Take a new frame: follow the kept matches into it; return whether they can be used.
+
+        Call once per frame before ``found``. False (the frame must be computed afresh) when there
+        is nothing to follow or too few pairs survived the flow.
+        """
+        cur = views_of(left_rect, right_rect)
+        self._views = cur
+        self._frame += 1
+        if self._job is not None:
+            self._job.due -= 1
+            if self._job.due <= 0:
+                done, self._job = self._job.future.result(), None
+                self._state = done                   # followed from its own frame below, in one step
+        self._scanned_now = False
+        if self._state is None:
+            self.last_reason = "nothing to follow"
+            return False
+        return self._follow(self._state.views, cur)
+
+    def _follow(self, prev: Views, cur: Views) -> bool:
+        """Follow the state's main and corridor matches from ``prev`` to ``cur``; False when too many were lost."""
+        state = self._state
+        n_main = len(state.main)
+        both = state.main if state.corridor is None else _stack(state.main, state.corridor)
+        steps = max(self._frame - state.frame, 1)   # a background pass is followed over all its frames at once
+        moved, keep = follow_pairs(prev, cur, both, self.row_tolerance_px, self.max_disparity_change_px * steps)
+        total, kept = len(both), int(keep.sum())
+        rows = np.arange(total)
+        main = moved.subset(keep & (rows < n_main))
+        corridor = None if state.corridor is None else moved.subset(keep & (rows >= n_main))
+        if total and kept < self.min_tracked_fraction * total:
+            self.counts["lost"] += 1
+            self.last_reason = f"{kept} of {total} matches followed"
+            self._state = None
+            self._cancel()
+            return False
+        self._state = _Scan(cur, main, corridor, state.cols, state.wedge, self._frame)
+        return True
+
+    def main_candidates(self, arm: ArmKeypoints, rig: StereoRig) -> Candidates | None:
+        """Return the followed main-pass matches inside this frame's kept columns, or None if not covered."""
+        state = self._state
+        if state is None:
+            return None
+        width = state.views.left.shape[1]
+        hand = hand_extent_px(arm, rig.baseline_m)
+        cols = [kept_columns(arm, side, width, self.detector.mask_side, self.detector.mask_offset_px, hand)
+                for side in ("left", "right")]
+        for (x0, x1), (s0, s1) in zip(cols, state.cols):
+            if x1 - x0 >= 8 and (x0 < s0 - COLUMN_SLACK_PX or x1 > s1 + COLUMN_SLACK_PX):
+                self.last_reason = "kept columns outside the scanned ones"
+                return None
+        m = state.main
+        keep = ((m.left_px[:, 0] >= cols[0][0]) & (m.left_px[:, 0] < cols[0][1])
+                & (m.right_px[:, 0] >= cols[1][0]) & (m.right_px[:, 0] < cols[1][1]))
+        return m.subset(keep)
+
+    def corridor_candidates(self, arm: ArmKeypoints, rig: StereoRig) -> Candidates | None:
+        """Return the followed corridor matches inside this frame's wedge, or None if it is not covered."""
+        state = self._state
+        if state is None or self.corridor is None or state.corridor is None or state.wedge is None:
+            return None
+        h, w = state.views.left.shape[:2]
+        wedge = self.corridor.wedge(arm, w, h, rig)
+        if wedge is None:
+            return Candidates.empty()
+        if polygon_cover(wedge, state.wedge, w, h) < self.min_corridor_cover:
+            self.last_reason = "the arm's corridor moved"
+            return None
+        return state.corridor.subset(inside_polygon(state.corridor.left_px, wedge))
+
+    def replace_corridor(self, found: Candidates, arm: ArmKeypoints, rig: StereoRig) -> None:
+        """Keep a corridor scanned afresh on this frame (its wedge from ``arm``) for the next frames."""
+        if self._state is not None and self.corridor is not None:
+            h, w = self._state.views.left.shape[:2]
+            self._state.corridor, self._state.wedge = found, self.corridor.wedge(arm, w, h, rig)
+            self.counts["corridor_scans"] += 1
+
+    def fresh(self, main: Candidates, corridor: Candidates | None, arm: ArmKeypoints, rig: StereoRig) -> None:
+        """Keep a frame computed afresh (the core's own full pass) as the matches to follow."""
+        self._cancel()
+        views = self._views
+        if views is None:
+            return
+        h, w = views.left.shape[:2]
+        cols = self._columns(arm, rig, w, margin_px=0.0)
+        wedge = self.corridor.wedge(arm, w, h, rig) if (self.corridor is not None and corridor is not None) else None
+        self._state = _Scan(views, main, corridor, cols, wedge, self._frame)
+        self._scanned_now = True
+        self.counts["fresh"] += 1
+
+    def schedule(self, arm: ArmKeypoints, rig: StereoRig) -> None:
+        """After a frame is decided: start the next background pass on it unless one is in flight."""
+        if self._job is not None or self._views is None or self._state is None or self._scanned_now:
+            return
+        views = self._views
+        future = shared_pool("reuse", 1).submit(self._full_pass, views, arm, rig, self._frame)
+        self._job = _Job(future, self.interval_frames)
+        self.counts["refreshed"] += 1
+
+    def reset(self) -> None:
+        """Forget everything (a new sequence); waits for a background pass in flight."""
+        self._cancel()
+        self._state, self._views = None, None
+
+    # -- internals --------------------------------------------------------------------------------
+    def _cancel(self) -> None:
+        """Drop the background pass in flight (waited for: it holds the detectors)."""
+        job, self._job = self._job, None
+        if job is not None:
+            job.future.result()
+
+    def _columns(self, arm: ArmKeypoints, rig: StereoRig, width: int, margin_px: float
+                 ) -> tuple[tuple[int, int], tuple[int, int]]:
+        """Return both images' kept columns for ``arm``, widened by ``margin_px`` where not at the border."""
+        hand = hand_extent_px(arm, rig.baseline_m)
+        out = []
+        for side in ("left", "right"):
+            x0, x1 = kept_columns(arm, side, width, self.detector.mask_side, self.detector.mask_offset_px, hand)
+            out.append((int(max(0, x0 - margin_px)) if x0 > 0 else 0, int(min(width, x1 + margin_px)) if x1 < width else width))
+        return out[0], out[1]
+
+    def _full_pass(self, views: Views, arm: ArmKeypoints, rig: StereoRig, frame: int) -> _Scan:
+        """The background pass: main-pass matches in the widened kept columns and the corridor, on one frame."""
+        cols = self._columns(arm, rig, views.left.shape[1], COLUMN_MARGIN_PX)
+        main = self.detector.detect_columns(views.left, views.right, cols[0], cols[1], rig)
+        corridor, wedge = None, None
+        if self.corridor is not None:
+            corridor = self.corridor.detect(views.left, views.right, arm, rig)
+            wedge = self.corridor.last_polygon
+        return _Scan(views, main, corridor, cols, wedge, frame)
+
