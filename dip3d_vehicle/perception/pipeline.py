@@ -157,10 +157,10 @@ class Perception:
         """Run the core on an already rectified pair."""
         tm = dict(timings or {})
         clock = _Stopwatch(tm)
+        likely_reused = self.reuse is not None and self.reuse.has_matches()  # read before the step runs
         following = None
         if self.reuse is not None:  # follow the kept matches into this frame while the pose runs
             following = shared_pool("reuse-follow", 1).submit(self.reuse.step, left_rect, right_rect)
-        likely_reused = self.reuse is not None and self.reuse.has_matches()
         prefetch = getattr(self.detector, "prefetch", None) if self.overlap and not likely_reused else None
         features_started = prefetch is not None and self._last_arm is not None
         if features_started:
