@@ -25,6 +25,8 @@ full pass's. An object that enters the view, or appears, is found by the next ba
 
 from __future__ import annotations
 
+import os
+import threading
 from concurrent.futures import Future
 from dataclasses import dataclass
 from typing import Mapping
@@ -46,6 +48,8 @@ LK_LEVELS = 3
 """Pyramid levels above full resolution: converges for shifts up to ~8 x the half window (~80 px)."""
 LK_MAX_RESIDUAL = 30.0
 """Largest mean absolute grey difference (0-255) over the window of a followed feature."""
+EDGE_PX = 48
+"""Pairs this close to the image border may leave the view in a flow step: their loss is not counted."""
 COLUMN_SLACK_PX = 24
 """This frame's kept columns may reach this far beyond the scanned ones (the sliver next to the
 hand is not looked at again before the next pass) before the frame is computed afresh."""
@@ -132,6 +136,24 @@ def polygon_cover(poly: np.ndarray, scanned: np.ndarray, width: int, height: int
     return float(max(common, 0.0) / area)
 
 
+BACKGROUND_NICE = 5
+"""The background pass's thread runs this much nicer than the process (Linux): the frame being decided
+gets the cores first and the pass fills the time between; it is taken K frames later in any case."""
+_LOWERED: set[int] = set()
+
+
+def _lower_this_thread() -> None:
+    """Make the calling thread nicer by ``BACKGROUND_NICE`` (once per thread; no-op where unsupported)."""
+    tid = threading.get_native_id()
+    if tid in _LOWERED:
+        return
+    _LOWERED.add(tid)
+    try:
+        os.setpriority(os.PRIO_PROCESS, tid, os.getpriority(os.PRIO_PROCESS, tid) + BACKGROUND_NICE)
+    except (AttributeError, OSError):  # not Linux, or not permitted: same results, less smooth timing
+        pass
+
+
 def _stack(a: Candidates, b: Candidates) -> Candidates:
     """Return two candidate sets as one (descriptors and sizes kept where both have them)."""
     same = a.descriptors.shape[1:] == b.descriptors.shape[1:] and len(a.descriptors) == len(a) \
@@ -151,6 +173,7 @@ class _Scan:
     cols: tuple[tuple[int, int], tuple[int, int]]
     wedge: np.ndarray | None
     frame: int                              # the frame (``CandidateReuse``'s count) the positions belong to
+    counted: tuple[int, int]                # left columns whose pairs count for the lost fraction (not the margin)
 
 
 @dataclass
@@ -230,8 +253,14 @@ class CandidateReuse:
         both = state.main if state.corridor is None else _stack(state.main, state.corridor)
         steps = max(self._frame - state.frame, 1)   # a background pass is followed over all its frames at once
         moved, keep = follow_pairs(prev, cur, both, self.row_tolerance_px, self.max_disparity_change_px * steps)
-        total, kept = len(both), int(keep.sum())
-        rows = np.arange(total)
+        # pairs in the margin next to the diver (it moves with the diver) or near the border (they
+        # leave the view as the camera moves) do not tell whether the scene changed
+        x, y = both.left_px[:, 0], both.left_px[:, 1]
+        h, w = cur.left.shape[:2]
+        counted = ((x >= max(state.counted[0], EDGE_PX)) & (x < min(state.counted[1], w - EDGE_PX))
+                   & (y >= EDGE_PX) & (y < h - EDGE_PX))
+        total, kept = int(counted.sum()), int((keep & counted).sum())
+        rows = np.arange(len(both))
         main = moved.subset(keep & (rows < n_main))
         corridor = None if state.corridor is None else moved.subset(keep & (rows >= n_main))
         if total and kept < self.min_tracked_fraction * total:
@@ -240,7 +269,7 @@ class CandidateReuse:
             self._state = None
             self._cancel()
             return False
-        self._state = _Scan(cur, main, corridor, state.cols, state.wedge, self._frame)
+        self._state = _Scan(cur, main, corridor, state.cols, state.wedge, self._frame, state.counted)
         return True
 
     def main_candidates(self, arm: ArmKeypoints, rig: StereoRig) -> Candidates | None:
@@ -291,7 +320,7 @@ class CandidateReuse:
         h, w = views.left.shape[:2]
         cols = self._columns(arm, rig, w, margin_px=0.0)
         wedge = self.corridor.wedge(arm, w, h, rig) if (self.corridor is not None and corridor is not None) else None
-        self._state = _Scan(views, main, corridor, cols, wedge, self._frame)
+        self._state = _Scan(views, main, corridor, cols, wedge, self._frame, cols[0])
         self._scanned_now = True
         self.counts["fresh"] += 1
 
@@ -328,11 +357,13 @@ class CandidateReuse:
 
     def _full_pass(self, views: Views, arm: ArmKeypoints, rig: StereoRig, frame: int) -> _Scan:
         """The background pass: main-pass matches in the widened kept columns and the corridor, on one frame."""
-        cols = self._columns(arm, rig, views.left.shape[1], COLUMN_MARGIN_PX)
+        _lower_this_thread()
+        width = views.left.shape[1]
+        cols = self._columns(arm, rig, width, COLUMN_MARGIN_PX)
         main = self.detector.detect_columns(views.left, views.right, cols[0], cols[1], rig)
         corridor, wedge = None, None
         if self.corridor is not None:
             corridor = self.corridor.detect(views.left, views.right, arm, rig)
             wedge = self.corridor.last_polygon
-        return _Scan(views, main, corridor, cols, wedge, frame)
+        return _Scan(views, main, corridor, cols, wedge, frame, self._columns(arm, rig, width, 0.0)[0])
 
