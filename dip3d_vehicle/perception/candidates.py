@@ -324,11 +324,10 @@ class SiftDetector(CandidateDetector):
         self.last_timings_ms = {"features": (t1 - t0) * 1e3, "match": (time.perf_counter() - t1) * 1e3}
         return cands
 
-    def detect_columns(self, left_rect: np.ndarray, right_rect: np.ndarray, cols_l: tuple[int, int],
-                       cols_r: tuple[int, int], rig: StereoRig) -> Candidates:
-        """Return matched candidates from given column ranges of both images (no arm; one thread)."""
-        pl, dl, sl = self.features(left_rect, cols_l, 0)
-        pr, dr, _ = self.features(right_rect, cols_r, 1)
+    def match_features(self, left: tuple[np.ndarray, np.ndarray, np.ndarray],
+                       right: tuple[np.ndarray, np.ndarray, np.ndarray], rig: StereoRig) -> Candidates:
+        """Return matched candidates from two images' ``features`` (points, descriptors, sizes)."""
+        (pl, dl, sl), (pr, dr, _) = left, right
         return self._match(pl, dl, sl, pr, dr, rig)
 
     def _match(self, pl: np.ndarray, dl: np.ndarray, sl: np.ndarray, pr: np.ndarray, dr: np.ndarray,

@@ -6,7 +6,9 @@ pointing corridor's CLAHE + SIFT) costs two thirds of a frame's CPU. ``Candidate
 last full pass's matched pairs (main pass and corridor apart) and follows them into each new frame
 with pyramidal Lucas-Kanade flow in both rectified images. A followed pair is kept only if both
 eyes' flows converged, it still lies on one rectified row (``candidates.row_tolerance_px``) and its
-disparity changed by at most ``candidates.reuse_max_disparity_change_px`` per frame; the arm is measured on
+disparity changed like its neighbours' (within ``candidates.reuse_max_disparity_change_px``: the
+scene is rigid, so neighbouring features' disparities change alike however far the camera moved,
+while a flow that slid along an edge in one eye does not); the arm is measured on
 every frame, and each frame keeps the followed pairs inside ITS kept columns and corridor wedge.
 
 A new full pass runs in the background on one frame every ``candidates.reuse_frames`` (K) frames
@@ -25,14 +27,13 @@ full pass's. An object that enters the view, or appears, is found by the next ba
 
 from __future__ import annotations
 
-import os
-import threading
 from concurrent.futures import Future
 from dataclasses import dataclass
-from typing import Mapping
+from typing import Iterator, Mapping
 
 import cv2
 import numpy as np
+from scipy.spatial import cKDTree
 
 from .calibration import StereoRig
 from .candidates import SiftDetector, hand_extent_px, kept_columns
@@ -103,7 +104,8 @@ def follow_pairs(prev: Views, cur: Views, cands: Candidates, row_tolerance_px: f
     """Return the matched pairs moved from ``prev`` to ``cur`` (every row) and which of them are still consistent.
 
     A pair survives when both flows converged, both points lie in the image, their rows agree within
-    ``row_tolerance_px`` and the disparity changed by at most ``max_disparity_change_px``.
+    ``row_tolerance_px`` and its disparity change differs by at most ``max_disparity_change_px``
+    from the median change of its ``NEIGHBOURS`` nearest pairs (``disparity_outliers``).
     Descriptors and sizes are carried over (they describe the same physical features).
     """
     if len(cands) == 0:
@@ -113,9 +115,37 @@ def follow_pairs(prev: Views, cur: Views, cands: Candidates, row_tolerance_px: f
     h, w = cur.left.shape[:2]
     inside = np.all((left >= 0) & (left <= [w - 1, h - 1]) & (right >= 0) & (right <= [w - 1, h - 1]), axis=1)
     same_row = np.abs(left[:, 1] - right[:, 1]) <= row_tolerance_px
-    disp_step = np.abs((left[:, 0] - right[:, 0]) - cands.disparity_px)
-    keep = ok_l & ok_r & inside & same_row & (disp_step <= max_disparity_change_px)
+    ok = ok_l & ok_r & inside & same_row
+    change = (left[:, 0] - right[:, 0]) - cands.disparity_px
+    keep = ok & ~disparity_outliers(cands.left_px, change, ok, max_disparity_change_px)
     return Candidates(left, right, cands.descriptors, cands.sizes_px), keep
+
+
+NEIGHBOURS = 8
+"""Pairs whose disparity change a followed pair's is compared with."""
+
+
+def disparity_outliers(points_px: np.ndarray, change_px: np.ndarray, valid: np.ndarray, tolerance_px: float
+                       ) -> np.ndarray:
+    """Return which pairs' disparity change differs by more than ``tolerance_px`` from their neighbours' median.
+
+    Neighbours: the ``NEIGHBOURS`` nearest valid pairs in the image (the pair itself excluded).
+    With fewer valid pairs than that the median of all valid ones is used.
+    """
+    out = np.ones(len(points_px), bool)
+    idx = np.nonzero(valid)[0]
+    if len(idx) < 2:
+        return out
+    if len(idx) <= NEIGHBOURS:
+        ref = np.full(len(points_px), np.median(change_px[idx]))
+    else:
+        _, nn = cKDTree(points_px[idx]).query(points_px, k=NEIGHBOURS + 1)
+        near = change_px[idx][nn]                              # (N, k + 1): the pair itself is among them
+        own = idx[nn] == np.arange(len(points_px))[:, None]
+        near = np.where(own, np.nan, near)[:, :NEIGHBOURS + 1]
+        ref = np.nanmedian(near, axis=1)
+    out = ~(np.abs(change_px - ref) <= tolerance_px)
+    return out
 
 
 def inside_polygon(points_px: np.ndarray, poly: np.ndarray) -> np.ndarray:
@@ -136,22 +166,23 @@ def polygon_cover(poly: np.ndarray, scanned: np.ndarray, width: int, height: int
     return float(max(common, 0.0) / area)
 
 
-BACKGROUND_NICE = 5
-"""The background pass's thread runs this much nicer than the process (Linux): the frame being decided
-gets the cores first and the pass fills the time between; it is taken K frames later in any case."""
-_LOWERED: set[int] = set()
+PASS_PIECES = 3
+"""Pieces of a full pass (``CandidateReuse._full_pass``), spread over the K - 1 frames before it is taken."""
 
 
-def _lower_this_thread() -> None:
-    """Make the calling thread nicer by ``BACKGROUND_NICE`` (once per thread; no-op where unsupported)."""
-    tid = threading.get_native_id()
-    if tid in _LOWERED:
-        return
-    _LOWERED.add(tid)
-    try:
-        os.setpriority(os.PRIO_PROCESS, tid, os.getpriority(os.PRIO_PROCESS, tid) + BACKGROUND_NICE)
-    except (AttributeError, OSError):  # not Linux, or not permitted: same results, less smooth timing
-        pass
+def _run_pieces(job: _Job, count: int) -> None:
+    """Run up to ``count`` pieces of a job's pass (in the background thread, beside the frame's own work)."""
+    for _ in range(count):
+        if job.scan is not None:
+            return
+        job.scan = next(job.pieces)
+
+
+def _finish(job: _Job) -> _Scan:
+    """Return a job's scan, running the pieces it has left (none when it kept pace)."""
+    while job.scan is None:
+        job.scan = next(job.pieces)
+    return job.scan
 
 
 def _stack(a: Candidates, b: Candidates) -> Candidates:
@@ -172,16 +203,18 @@ class _Scan:
     corridor: Candidates | None            # None: the corridor was not scanned with this pass
     cols: tuple[tuple[int, int], tuple[int, int]]
     wedge: np.ndarray | None
-    frame: int                              # the frame (``CandidateReuse``'s count) the positions belong to
     counted: tuple[int, int]                # left columns whose pairs count for the lost fraction (not the margin)
 
 
 @dataclass
 class _Job:
-    """A full pass running in the background, taken ``due`` frames from now."""
+    """A full pass spread over the next frames: its pieces, the piece in flight, frames until it is taken."""
 
-    future: Future
+    pieces: Iterator[_Scan | None]       # yields None after each piece, then the scan
+    per_frame: int                       # pieces run per frame
     due: int
+    future: Future | None = None         # the pieces started on the current frame
+    scan: _Scan | None = None
 
 
 class CandidateReuse:
@@ -209,7 +242,6 @@ class CandidateReuse:
         self._views: Views | None = None
         self._job: _Job | None = None
         self._scanned_now = False                    # this frame was computed afresh
-        self._frame = 0                              # frames taken by ``step``
 
     @classmethod
     def from_params(cls, params: Mapping) -> "CandidateReuse | None":
@@ -234,12 +266,17 @@ class CandidateReuse:
         """
         cur = views_of(left_rect, right_rect)
         self._views = cur
-        self._frame += 1
-        if self._job is not None:
-            self._job.due -= 1
-            if self._job.due <= 0:
-                done, self._job = self._job.future.result(), None
-                self._state = done                   # followed from its own frame below, in one step
+        job = self._job
+        if job is not None:
+            if job.future is not None:
+                job.future.result()                  # the pieces the previous frame started
+                job.future = None
+            job.due -= 1
+            if job.due <= 0:
+                self._job = None
+                self._state = _finish(job)           # followed from its own frame below, in one step
+            else:                                    # this frame's share runs beside the frame's own work
+                job.future = shared_pool("reuse", 1).submit(_run_pieces, job, job.per_frame)
         self._scanned_now = False
         if self._state is None:
             self.last_reason = "nothing to follow"
@@ -251,8 +288,7 @@ class CandidateReuse:
         state = self._state
         n_main = len(state.main)
         both = state.main if state.corridor is None else _stack(state.main, state.corridor)
-        steps = max(self._frame - state.frame, 1)   # a background pass is followed over all its frames at once
-        moved, keep = follow_pairs(prev, cur, both, self.row_tolerance_px, self.max_disparity_change_px * steps)
+        moved, keep = follow_pairs(prev, cur, both, self.row_tolerance_px, self.max_disparity_change_px)
         # pairs in the margin next to the diver (it moves with the diver) or near the border (they
         # leave the view as the camera moves) do not tell whether the scene changed
         x, y = both.left_px[:, 0], both.left_px[:, 1]
@@ -269,7 +305,7 @@ class CandidateReuse:
             self._state = None
             self._cancel()
             return False
-        self._state = _Scan(cur, main, corridor, state.cols, state.wedge, self._frame, state.counted)
+        self._state = _Scan(cur, main, corridor, state.cols, state.wedge, state.counted)
         return True
 
     def main_candidates(self, arm: ArmKeypoints, rig: StereoRig) -> Candidates | None:
@@ -320,7 +356,7 @@ class CandidateReuse:
         h, w = views.left.shape[:2]
         cols = self._columns(arm, rig, w, margin_px=0.0)
         wedge = self.corridor.wedge(arm, w, h, rig) if (self.corridor is not None and corridor is not None) else None
-        self._state = _Scan(views, main, corridor, cols, wedge, self._frame, cols[0])
+        self._state = _Scan(views, main, corridor, cols, wedge, cols[0])
         self._scanned_now = True
         self.counts["fresh"] += 1
 
@@ -328,9 +364,9 @@ class CandidateReuse:
         """After a frame is decided: start the next background pass on it unless one is in flight."""
         if self._job is not None or self._views is None or self._state is None or self._scanned_now:
             return
-        views = self._views
-        future = shared_pool("reuse", 1).submit(self._full_pass, views, arm, rig, self._frame)
-        self._job = _Job(future, self.interval_frames)
+        pieces = self._full_pass(self._views, arm, rig)
+        frames = max(self.interval_frames - 1, 1)        # the pass is taken on the K-th frame from now
+        self._job = _Job(pieces, -(-PASS_PIECES // frames), self.interval_frames)
         self.counts["refreshed"] += 1
 
     def reset(self) -> None:
@@ -342,7 +378,7 @@ class CandidateReuse:
     def _cancel(self) -> None:
         """Drop the background pass in flight (waited for: it holds the detectors)."""
         job, self._job = self._job, None
-        if job is not None:
+        if job is not None and job.future is not None:
             job.future.result()
 
     def _columns(self, arm: ArmKeypoints, rig: StereoRig, width: int, margin_px: float
@@ -355,15 +391,18 @@ class CandidateReuse:
             out.append((int(max(0, x0 - margin_px)) if x0 > 0 else 0, int(min(width, x1 + margin_px)) if x1 < width else width))
         return out[0], out[1]
 
-    def _full_pass(self, views: Views, arm: ArmKeypoints, rig: StereoRig, frame: int) -> _Scan:
-        """The background pass: main-pass matches in the widened kept columns and the corridor, on one frame."""
-        _lower_this_thread()
+    def _full_pass(self, views: Views, arm: ArmKeypoints, rig: StereoRig) -> Iterator[_Scan | None]:
+        """The full pass on one frame in ``PASS_PIECES`` pieces: left features, right features, matches + corridor."""
         width = views.left.shape[1]
         cols = self._columns(arm, rig, width, COLUMN_MARGIN_PX)
-        main = self.detector.detect_columns(views.left, views.right, cols[0], cols[1], rig)
+        left = self.detector.features(views.left, cols[0], 0)
+        yield None
+        right = self.detector.features(views.right, cols[1], 1)
+        yield None
+        main = self.detector.match_features(left, right, rig)
         corridor, wedge = None, None
         if self.corridor is not None:
             corridor = self.corridor.detect(views.left, views.right, arm, rig)
             wedge = self.corridor.last_polygon
-        return _Scan(views, main, corridor, cols, wedge, frame, self._columns(arm, rig, width, 0.0)[0])
+        yield _Scan(views, main, corridor, cols, wedge, self._columns(arm, rig, width, 0.0)[0])
 

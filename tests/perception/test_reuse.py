@@ -10,7 +10,7 @@ from dip3d_vehicle.config import load_params
 from dip3d_vehicle.perception.calibration import StereoRig
 from dip3d_vehicle.perception.keypoints_file import GivenKeypoints
 from dip3d_vehicle.perception.pipeline import Perception
-from dip3d_vehicle.perception.reuse import follow_pairs, polygon_cover, views_of
+from dip3d_vehicle.perception.reuse import disparity_outliers, follow_pairs, polygon_cover, views_of
 
 W, H = 640, 480
 F_PX, BASELINE_M = 500.0, 0.1
@@ -145,6 +145,20 @@ def test_reset_starts_a_new_sequence():
     core.reset()
     core.process_rectified(*_render())
     assert core.reuse.counts["fresh"] == 2 and core.reuse.counts["reused"] == 0
+
+
+def test_a_disparity_change_unlike_its_neighbours_is_an_outlier():
+    """A rigid approach changes every disparity alike (even by 6 px); one pair that slid 4 px along its row stands out."""
+    rng = np.random.default_rng(0)
+    pts = rng.uniform(0, 400, (60, 2))
+    change = 6.0 + rng.normal(0, 0.2, 60)
+    assert not disparity_outliers(pts, change, np.ones(60, bool), 2.0).any()
+    change[17] += 4.0
+    out = disparity_outliers(pts, change, np.ones(60, bool), 2.0)
+    assert out[17] and out.sum() == 1
+    one = np.zeros(60, bool)
+    one[3] = True                                              # a lone followed pair has nothing to be checked against
+    assert disparity_outliers(pts, change, one, 2.0).all()
 
 
 def test_polygon_cover():
