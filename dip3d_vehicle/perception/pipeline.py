@@ -6,6 +6,7 @@ rectify -> pose (both images) -> pose filters -> candidates (masked SIFT, matche
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import time
 from concurrent.futures import Future, ThreadPoolExecutor
@@ -42,6 +43,8 @@ class PerceptionResult:
         candidates_xyz_m: (N, 3) their 3D points, metres.
         selection: the selector's result (None unless status is "ok").
         timings_ms: milliseconds per stage.
+        candidates_followed: the candidates were followed from earlier frames (``candidates.reuse_frames``),
+            not computed on this frame alone.
     """
 
     status: str
@@ -52,6 +55,7 @@ class PerceptionResult:
     candidates_xyz_m: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
     selection: Selection | None = None
     timings_ms: dict = field(default_factory=dict)
+    candidates_followed: bool = False
 
     @property
     def target_rect_px(self) -> np.ndarray | None:
@@ -75,7 +79,8 @@ class PerceptionResult:
                    "method": sel.method, "confidence": _num(sel.confidence),
                    "ambiguity_margin": _num(sel.ambiguity_margin), "ambiguous": sel.ambiguous,
                    "none_probability": _num(sel.none_probability)},
-               "timings_ms": {k: round(v, 2) for k, v in self.timings_ms.items()}}
+               "timings_ms": {k: round(v, 2) for k, v in self.timings_ms.items()},
+               "candidates_followed": self.candidates_followed}
         return out
 
     def _arm_json(self, rig: StereoRig) -> dict | None:
@@ -192,7 +197,7 @@ class Perception:
         if reusable:
             cands = self._reused_candidates(left_rect, right_rect, arm, tm)
             if cands is not None:
-                return self._decided(early, cands, tm)
+                return dataclasses.replace(self._decided(early, cands, tm), candidates_followed=True)
         with clock("candidates"):
             cands = self.detector.detect(left_rect, right_rect, arm, self.rig)
         split = getattr(self.detector, "last_timings_ms", None) or {}

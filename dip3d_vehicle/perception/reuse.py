@@ -11,15 +11,18 @@ scene is rigid, so neighbouring features' disparities change alike however far t
 while a flow that slid along an edge in one eye does not); the arm is measured on
 every frame, and each frame keeps the followed pairs inside ITS kept columns and corridor wedge.
 
-A new full pass runs in the background on one frame every ``candidates.reuse_frames`` (K) frames
-(one pass in flight at a time, on the greyscale images this module owns): it is taken K frames
-after it started (waiting for it if it is late, so the result does not depend on timing) and
-followed to that frame in one flow step. The decided frames therefore use features found at most
-2K - 1 frames earlier. The frame is computed afresh, exactly as without reuse, when there is
-nothing to follow (first frame, ``reset``), when fewer than ``candidates.reuse_min_tracked_fraction``
-of the pairs survive a flow step (the camera or the scene moved: a new scene, a moved object),
-when this frame's kept columns reach beyond the scanned ones, and (the corridor alone) when less
-than ``candidates.reuse_min_corridor_cover`` of this frame's wedge lies in the scanned wedge.
+A new full pass runs on one frame every ``candidates.reuse_frames`` (K) frames (one pass at a
+time, on the greyscale images this module owns), spread over the next K - 1 frames in
+``PASS_PIECES`` pieces (left features, right features, matching + corridor), each piece in a
+background thread beside its frame's own work and waited for by the next frame, so that no frame
+carries a whole pass and the result never depends on timing. On the K-th frame the pass is taken
+and followed to that frame in one flow step: the decided frames use features found at most 2K - 1
+frames earlier. The frame is computed afresh, exactly as without reuse, when there is nothing to
+follow (first frame, ``reset``), when fewer than ``candidates.reuse_min_tracked_fraction`` of the
+pairs survive a flow step (the camera or the scene moved: a new scene, a moved object; pairs near
+the image border or in the margin next to the diver do not count), when this frame's kept columns
+reach beyond the scanned ones, and (the corridor alone, scanned afresh) when less than
+``candidates.reuse_min_corridor_cover`` of this frame's wedge lies in the scanned wedge.
 
 Single frames (``perceive``, the scene-family checks) never reuse anything: their results are the
 full pass's. An object that enters the view, or appears, is found by the next background pass.

@@ -100,14 +100,16 @@ def test_first_frame_is_the_full_pass_exactly():
 def test_a_steady_scene_is_followed_and_refreshed_in_the_background():
     """Frames 1.. are followed; an object that appears is found by the background pass, not before."""
     core = _core(3)
-    core.process_rectified(*_render())                    # frame 0: fresh
+    first = core.process_rectified(*_render())            # frame 0: fresh
     assert core.reuse.counts == {"fresh": 1, "reused": 0, "refreshed": 0, "lost": 0, "corridor_scans": 0}
+    assert not first.candidates_followed
     with_d = dict(OBJECTS, d=(520, 100, 22.0, 4))
     seen = []
     for k in range(1, 9):                                 # the camera drifts 1 px per frame; "d" appears at frame 2
         frame = _render(shift=(k, 0), objects=OBJECTS if k < 2 else with_d)
         result = core.process_rectified(*frame)
         seen.append(_in_box(result.candidates, 520 + k, 100))
+        assert result.candidates_followed and result.to_json(core.rig)["candidates_followed"]
     counts = core.reuse.counts
     assert counts["fresh"] == 1 and counts["lost"] == 0 and counts["reused"] == 8
     # background passes start on frames 1, 4, 7 and are taken 3 frames later (frames 4 and 7): the
@@ -168,3 +170,13 @@ def test_polygon_cover():
     assert polygon_cover(square, square + [300, 0], W, H) == pytest.approx(0.0)
     outside = square + [0, 330]                                   # half below the image: only its visible half counts
     assert polygon_cover(outside, square + [0, 280], W, H) == pytest.approx(1.0)
+
+
+def test_replay_compares_a_followed_frame_on_its_status_only():
+    """Replay decides each kept pair alone: a run's followed frame may differ by a few px, not in status."""
+    from dip3d_vehicle.commands.replay import changed
+    old = {"status": "ok", "target": {"left_px": [100.0, 100.0]}, "candidates_followed": True}
+    assert not changed(old, {"status": "ok", "target": {"left_px": [106.0, 100.0]}}, 2.0)
+    assert changed(old, {"status": "nothing_on_ray", "target": None}, 2.0)
+    fresh = dict(old, candidates_followed=False)
+    assert changed(fresh, {"status": "ok", "target": {"left_px": [106.0, 100.0]}}, 2.0)
