@@ -40,7 +40,7 @@ from scipy.spatial import cKDTree
 
 from .calibration import StereoRig
 from .candidates import SiftDetector, hand_extent_px, kept_columns
-from .corridor import CorridorDetector, corridor_polygon
+from .corridor import CorridorDetector
 from .threads import shared_pool
 from .values import ArmKeypoints, Candidates
 
@@ -223,8 +223,9 @@ class _Job:
 class CandidateReuse:
     """Follows a frame sequence's candidate matches between full passes (see the module doc).
 
-    ``step`` and ``found`` are called from one thread (the perception core's); the background pass
-    runs on its own detectors (their SIFT objects are not shared with the core's).
+    Per frame the core calls ``step`` (in a helper thread, while the pose runs), then, once it has
+    returned, ``main_candidates`` / ``corridor_candidates`` (or ``fresh``) and ``schedule``. The
+    background pass runs on its own detectors (their SIFT objects are not shared with the core's).
     """
 
     def __init__(self, interval_frames: int, min_tracked_fraction: float, max_disparity_change_px: float,
@@ -264,7 +265,7 @@ class CandidateReuse:
     def step(self, left_rect: np.ndarray, right_rect: np.ndarray) -> bool:
         """Take a new frame: follow the kept matches into it; return whether they can be used.
 
-        Call once per frame before ``found``. False (the frame must be computed afresh) when there
+        Call once per frame, first. False (the frame must be computed afresh) when there
         is nothing to follow or too few pairs survived the flow.
         """
         cur = views_of(left_rect, right_rect)
