@@ -228,6 +228,8 @@ def observation_summary(obs: Observation | None) -> dict:
     if obs.result is not None:
         r = obs.result
         out["status"] = r.status
+        if getattr(r, "candidates_followed", False):  # decided on candidates followed from earlier frames
+            out["candidates_followed"] = True
         if r.selection is not None and r.selection.none_probability > 0.0:
             out["none_probability"] = round(float(r.selection.none_probability), 3)
         if r.selection is not None and r.selection.target is not None:

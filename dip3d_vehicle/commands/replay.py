@@ -18,6 +18,11 @@ is its ``run``, ``params`` and ``calibration`` metadata):
   ``pose.backend`` is ``keypoints`` (the simulator's pose source): replay feeds them back.
 
 A decision *changed* when the status differs or the target moved more than ``--tolerance-px``.
+Each kept pair is decided alone (``candidates.reuse_frames`` 0: the frames between kept pairs are
+not in the record). A run's frame decided on candidates followed from earlier frames
+(``candidates_followed`` in its record, ``perception/reuse.py``) can therefore only be compared on
+its status: its target, a centre of features found on an earlier frame and followed, may lie a few
+pixels from the one computed on this frame alone.
 """
 
 from __future__ import annotations
@@ -89,11 +94,16 @@ def log_rig(reader: McapRunReader, params: Mapping[str, Any], image_size: tuple[
 
 
 def changed(old: Mapping[str, Any] | None, new: Mapping[str, Any], tolerance_px: float) -> bool:
-    """Return True when the decision differs (status, or target moved more than the tolerance)."""
+    """Return True when the decision differs (status, or target moved more than the tolerance).
+
+    A run's frame decided on followed candidates (``old["candidates_followed"]``) is compared on its status only.
+    """
     if old is None:
         return True
     if old.get("status") != new.get("status"):
         return True
+    if old.get("candidates_followed"):
+        return False
     a, b = _px(old.get("target")), _px(new.get("target"))
     if a is None or b is None:
         return (a is None) != (b is None)
@@ -118,12 +128,14 @@ def replay_log(path: str | Path, params: Params, tolerance_px: float = 2.0) -> I
         for index, left, right in reader.image_pairs():
             if engine is None:
                 rig = log_rig(reader, params, (left.shape[1], left.shape[0]))
-                engine = Perception(rig, params, make_pose_estimator(params, None))
+                alone = params.with_overrides({"candidates.reuse_frames": 0}, "replay: each kept pair decided alone")
+                engine = Perception(rig, alone, make_pose_estimator(alone, None))
             old = records.get(index)
             if params["pose.backend"] == "keypoints":
                 engine.pose.provide((old or {}).get("keypoints"), f"{reader.path}: frame {index} keypoints")
             new = engine.process(left, right).to_json(engine.rig)
-            old_short = None if old is None else {"status": old.get("status"), "target": old.get("target")}
+            old_short = None if old is None else {"status": old.get("status"), "target": old.get("target"),
+                                                  "candidates_followed": bool(old.get("candidates_followed"))}
             yield {"index": index, "old": old_short, "new": new,
                    "changed": changed(old_short, new, tolerance_px)}
 

@@ -324,6 +324,12 @@ class SiftDetector(CandidateDetector):
         self.last_timings_ms = {"features": (t1 - t0) * 1e3, "match": (time.perf_counter() - t1) * 1e3}
         return cands
 
+    def match_features(self, left: tuple[np.ndarray, np.ndarray, np.ndarray],
+                       right: tuple[np.ndarray, np.ndarray, np.ndarray], rig: StereoRig) -> Candidates:
+        """Return matched candidates from two images' ``features`` (points, descriptors, sizes)."""
+        (pl, dl, sl), (pr, dr, _) = left, right
+        return self._match(pl, dl, sl, pr, dr, rig)
+
     def _match(self, pl: np.ndarray, dl: np.ndarray, sl: np.ndarray, pr: np.ndarray, dr: np.ndarray,
                rig: StereoRig) -> Candidates:
         """Match left and right features; keep same-row pairs with positive disparity."""

@@ -98,6 +98,7 @@ class CorridorDetector:
         self._sifts = tuple(cv2.SIFT_create(contrastThreshold=contrast_threshold) for _ in range(4))
         self.last_polygon: np.ndarray | None = None
         self.last_timings_ms: dict[str, float] = {}
+        self.concurrent = True  # the right image in the shared "sift" pool (False: in the calling thread)
 
     @classmethod
     def from_params(cls, params: Mapping) -> "CorridorDetector":
@@ -118,8 +119,7 @@ class CorridorDetector:
         """
         t0 = time.perf_counter()
         height, width = left_rect.shape[:2]
-        start_px = max(self.start_px, hand_extent_px(arm, rig.baseline_m))  # beyond a neural pose's hand
-        poly = corridor_polygon(arm, width, height, self.half_angle_rad, start_px, self.min_half_width_px)
+        poly = self.wedge(arm, width, height, rig)
         self.last_polygon = poly
         if poly is None:
             return Candidates.empty()
@@ -129,6 +129,11 @@ class CorridorDetector:
         out = self._match_boxes(left_rect, right_rect, boxes, [_polygon_mask(poly, box) for box in boxes], rig, poly=poly)
         self.last_timings_ms = {"corridor": (time.perf_counter() - t0) * 1e3}
         return out
+
+    def wedge(self, arm: ArmKeypoints, width: int, height: int, rig: StereoRig) -> np.ndarray | None:
+        """Return the corridor's wedge for ``arm`` (``corridor_polygon``, starting beyond a neural pose's hand)."""
+        start_px = max(self.start_px, hand_extent_px(arm, rig.baseline_m))
+        return corridor_polygon(arm, width, height, self.half_angle_rad, start_px, self.min_half_width_px)
 
     def detect_box(self, left_rect: np.ndarray, right_rect: np.ndarray, box: tuple[int, int, int, int],
                    rig: StereoRig) -> Candidates:
@@ -163,9 +168,13 @@ class CorridorDetector:
         if poly is not None:
             swept = _swept_polygon(poly, -sign * max_disp)
             right_masks = [_polygon_mask(swept, box, grow_px=_RIGHT_MASK_GROW_PX) for box in right_boxes]
-        right_job = shared_pool("sift", 2).submit(self._scan, right_rect, right_boxes, right_masks, scale, first + 1)
-        pl, dl = self._scan(left_rect, boxes, masks, scale, first)
-        pr, dr = right_job.result()
+        if self.concurrent:
+            right_job = shared_pool("sift", 2).submit(self._scan, right_rect, right_boxes, right_masks, scale, first + 1)
+            pl, dl = self._scan(left_rect, boxes, masks, scale, first)
+            pr, dr = right_job.result()
+        else:
+            pl, dl = self._scan(left_rect, boxes, masks, scale, first)
+            pr, dr = self._scan(right_rect, right_boxes, right_masks, scale, first + 1)
         qi, ti = match_row_band(pl, dl, pr, dr, self.lowe_ratio, self.row_tolerance_px,
                                 (self.min_disparity_px, max_disp), sign)
         if len(qi) == 0:

@@ -84,7 +84,7 @@ class FollowingPerception:
             job[0].result()
         self._track: dict | None = None
         self._since = 0
-        self.core.pose.reset()
+        self.core.reset()
 
     def close(self) -> None:
         """Stop the keyframe thread."""

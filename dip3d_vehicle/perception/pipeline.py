@@ -6,6 +6,7 @@ rectify -> pose (both images) -> pose filters -> candidates (masked SIFT, matche
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import time
 from concurrent.futures import Future, ThreadPoolExecutor
@@ -19,9 +20,10 @@ from .candidates import CandidateDetector, SiftDetector
 from .corridor import CorridorDetector, merge_candidates
 from .filters import candidate_keep, pose_rejection
 from .pose import PoseEstimator
+from .reuse import CandidateReuse
 from .selection import PointingSelector, make_selector
 from .triangulation import normalize_q, triangulate
-from .threads import shared_pool, single_threaded_opencv
+from .threads import shared_pool, single_threaded_blas, single_threaded_opencv
 from .values import JOINTS, Arm3D, ArmKeypoints, Candidates, Selection
 
 __all__ = ["Perception", "PerceptionResult", "make_pose_estimator"]
@@ -41,6 +43,8 @@ class PerceptionResult:
         candidates_xyz_m: (N, 3) their 3D points, metres.
         selection: the selector's result (None unless status is "ok").
         timings_ms: milliseconds per stage.
+        candidates_followed: the candidates were followed from earlier frames (``candidates.reuse_frames``),
+            not computed on this frame alone.
     """
 
     status: str
@@ -51,6 +55,7 @@ class PerceptionResult:
     candidates_xyz_m: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
     selection: Selection | None = None
     timings_ms: dict = field(default_factory=dict)
+    candidates_followed: bool = False
 
     @property
     def target_rect_px(self) -> np.ndarray | None:
@@ -74,7 +79,8 @@ class PerceptionResult:
                    "method": sel.method, "confidence": _num(sel.confidence),
                    "ambiguity_margin": _num(sel.ambiguity_margin), "ambiguous": sel.ambiguous,
                    "none_probability": _num(sel.none_probability)},
-               "timings_ms": {k: round(v, 2) for k, v in self.timings_ms.items()}}
+               "timings_ms": {k: round(v, 2) for k, v in self.timings_ms.items()},
+               "candidates_followed": self.candidates_followed}
         return out
 
     def _arm_json(self, rig: StereoRig) -> dict | None:
@@ -118,6 +124,7 @@ class Perception:
                  detector: CandidateDetector | None = None, selector: PointingSelector | None = None) -> None:
         self.rig, self.params, self.pose = rig, params, pose
         single_threaded_opencv()
+        single_threaded_blas()
         self.detector = detector or SiftDetector.from_params(params)
         self.selector = selector or make_selector(params)
         self.corridor = CorridorDetector.from_params(params) if params.get("corridor.enabled") else None
@@ -130,6 +137,14 @@ class Perception:
         # The corridor needs only the arm's LEFT joints, which the pose's early arm already has
         # exactly: it starts then, while the right pose and the features run (see _start_corridor).
         self._corridor_job: tuple[np.ndarray, np.ndarray, np.ndarray, Future] | None = None
+        # A frame sequence's candidates followed between full passes (candidates.reuse_frames, reuse.py)
+        self.reuse = CandidateReuse.from_params(params)
+
+    def reset(self) -> None:
+        """Start a new frame sequence: forget the pose's tracking and the followed candidates."""
+        self.pose.reset()
+        if self.reuse is not None:
+            self.reuse.reset()
 
     def process(self, left: np.ndarray, right: np.ndarray) -> PerceptionResult:
         """Run the whole core on an ORIGINAL (unrectified) pair."""
@@ -147,7 +162,11 @@ class Perception:
         """Run the core on an already rectified pair."""
         tm = dict(timings or {})
         clock = _Stopwatch(tm)
-        prefetch = getattr(self.detector, "prefetch", None) if self.overlap else None
+        likely_reused = self.reuse is not None and self.reuse.has_matches()  # read before the step runs
+        following = None
+        if self.reuse is not None:  # follow the kept matches into this frame while the pose runs
+            following = shared_pool("reuse-follow", 1).submit(self.reuse.step, left_rect, right_rect)
+        prefetch = getattr(self.detector, "prefetch", None) if self.overlap and not likely_reused else None
         features_started = prefetch is not None and self._last_arm is not None
         if features_started:
             prefetch(left_rect, right_rect, self._last_arm)
@@ -155,7 +174,8 @@ class Perception:
         def on_early_arm(hint: ArmKeypoints) -> None:
             if prefetch is not None and not features_started:  # no previous arm: features from the left pose
                 prefetch(left_rect, right_rect, hint)
-            self._start_corridor(left_rect, right_rect, hint)
+            if not likely_reused:
+                self._start_corridor(left_rect, right_rect, hint)
 
         if self.overlap:
             self.pose.set_early_arm_listener(on_early_arm)
@@ -167,11 +187,17 @@ class Perception:
         with clock("triangulate"):
             early = self.check_arm(arm)
         self._last_arm = early.arm if early.status == "ok" else None
+        with clock("candidates"):
+            reusable = following is not None and following.result()
         if early.status != "ok":
             if prefetch is not None:
                 self.detector.cancel_prefetch()
             self._take_corridor(left_rect, right_rect, None)
             return PerceptionResult(early.status, early.reason, early.arm, early.arm3d, timings_ms=tm)
+        if reusable:
+            cands = self._reused_candidates(left_rect, right_rect, arm, tm)
+            if cands is not None:
+                return dataclasses.replace(self._decided(early, cands, tm), candidates_followed=True)
         with clock("candidates"):
             cands = self.detector.detect(left_rect, right_rect, arm, self.rig)
         split = getattr(self.detector, "last_timings_ms", None) or {}
@@ -179,18 +205,52 @@ class Perception:
             tm["match"] = tm.get("match", 0.0) + split["match"]
             tm["candidates"] -= split["match"]
         with clock("corridor"):
-            cands = self.add_corridor(left_rect, right_rect, arm, cands)
-        return self.decide(early, cands, tm)
+            found = self._corridor_found(left_rect, right_rect, arm)
+        if self.reuse is not None:
+            self.reuse.fresh(cands, found, arm, self.rig)
+        return self._decided(early, merge_candidates(cands, found) if found is not None else cands, tm)
+
+    def _reused_candidates(self, left_rect: np.ndarray, right_rect: np.ndarray, arm: ArmKeypoints,
+                           tm: dict) -> Candidates | None:
+        """Return this frame's candidates from the followed matches (the corridor scanned afresh if it moved).
+
+        None when the main pass's kept columns are not covered (the frame is then computed afresh).
+        """
+        clock = _Stopwatch(tm)
+        with clock("candidates"):
+            main = self.reuse.main_candidates(arm, self.rig)
+        if main is None:
+            return None
+        with clock("corridor"):
+            found = self.reuse.corridor_candidates(arm, self.rig) if self.corridor is not None else None
+            if found is None and self.corridor is not None:
+                found = self._corridor_found(left_rect, right_rect, arm)
+                self.reuse.replace_corridor(found, arm, self.rig)
+            else:
+                self._take_corridor(left_rect, right_rect, None)
+        self.reuse.counts["reused"] += 1
+        return merge_candidates(main, found) if found is not None else main
+
+    def _decided(self, checked: PerceptionResult, cands: Candidates, tm: dict) -> PerceptionResult:
+        """Decide, then start the next background candidate pass on this frame when one is due."""
+        result = self.decide(checked, cands, tm)
+        if self.reuse is not None:
+            self.reuse.schedule(checked.arm, self.rig)
+        return result
+
+    def _corridor_found(self, left_rect: np.ndarray, right_rect: np.ndarray, arm: ArmKeypoints
+                        ) -> Candidates | None:
+        """Return the corridor's own matches for this frame (the early-started job's if it fits), or None if off."""
+        if self.corridor is None:
+            return None
+        found = self._take_corridor(left_rect, right_rect, arm)
+        return found if found is not None else self.corridor.detect(left_rect, right_rect, arm, self.rig)
 
     def add_corridor(self, left_rect: np.ndarray, right_rect: np.ndarray, arm: ArmKeypoints,
                      cands: Candidates) -> Candidates:
         """Return ``cands`` plus the corridor's matches along where the arm points (if enabled)."""
-        if self.corridor is None:
-            return cands
-        found = self._take_corridor(left_rect, right_rect, arm)
-        if found is None:
-            found = self.corridor.detect(left_rect, right_rect, arm, self.rig)
-        return merge_candidates(cands, found)
+        found = self._corridor_found(left_rect, right_rect, arm)
+        return cands if found is None else merge_candidates(cands, found)
 
     def _start_corridor(self, left_rect: np.ndarray, right_rect: np.ndarray, hint: ArmKeypoints) -> None:
         """Start the corridor's detection in the background from an early arm (its left joints are final)."""

@@ -3,7 +3,9 @@
 The core runs its own threads (the two images' remaps, the two eyes' landmark runs, the two
 images' SIFT, the corridor), so OpenCV's internal thread pool is set to one thread
 (``single_threaded_opencv``): with its default (one per core) its workers spin-wait beside ours,
-which cost ~10 % more CPU per frame on 2 cores for no gain in wall time (issue 16).
+which cost ~10 % more CPU per frame on 2 cores for no gain in wall time (issue 16). numpy's BLAS
+(OpenBLAS, the selector's and matcher's matrix products) is limited to one thread for the same
+reason (``single_threaded_blas``): its idle workers spin as well, ~60 ms CPU per ``default`` frame.
 """
 
 from __future__ import annotations
@@ -11,7 +13,7 @@ from __future__ import annotations
 import threading
 from concurrent.futures import ThreadPoolExecutor
 
-__all__ = ["shared_pool", "single_threaded_opencv"]
+__all__ = ["shared_pool", "single_threaded_opencv", "single_threaded_blas"]
 
 _POOLS: dict[str, ThreadPoolExecutor] = {}
 _LOCK = threading.Lock()
@@ -31,3 +33,19 @@ def single_threaded_opencv() -> None:
 
     if cv2.getNumThreads() != 1:
         cv2.setNumThreads(1)
+
+
+_BLAS_LIMITED: list = []
+
+
+def single_threaded_blas() -> None:
+    """Limit numpy's BLAS to one thread for the rest of the process (threadpoolctl; no-op without it)."""
+    with _LOCK:
+        if _BLAS_LIMITED:
+            return
+        try:
+            from threadpoolctl import threadpool_limits
+        except ImportError:  # an install without it keeps BLAS's own threads (slower, same results)
+            _BLAS_LIMITED.append(None)
+            return
+        _BLAS_LIMITED.append(threadpool_limits(1, user_api="blas"))

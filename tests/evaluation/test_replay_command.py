@@ -27,7 +27,7 @@ def _write_log(path, dataset_dir, meta, params):
             engine.pose.provide(ann.keypoints)
             out = engine.process(frame.left, frame.right).to_json(engine.rig)
             log.frame({"index": ann.index, "status": out["status"], "target": out["target"],
-                       "keypoints": ann.keypoints})
+                       "keypoints": ann.keypoints, "candidates_followed": out["candidates_followed"]})
             log.images(ann.index, frame.left, frame.right)
             decisions[ann.index] = out
     return decisions
@@ -73,7 +73,9 @@ def test_params_rebuilt_from_the_header():
 
 
 def test_embedded_calibration_and_missing_calibration(sim_dataset, tmp_path, capsys):
-    params = load_params("default", overrides={"pose.backend": "keypoints"})
+    # every frame decided alone, as replay decides it (a run's frames decided on candidates followed
+    # from earlier frames are compared on their status only: tests/perception/test_reuse.py)
+    params = load_params("default", overrides={"pose.backend": "keypoints", "candidates.reuse_frames": 0})
     text = (sim_dataset / "calib.yaml").read_text()
     embedded = tmp_path / "embedded.mcap"
     decisions = _write_log(embedded, sim_dataset, {"calib_opencv_yaml": text}, params)

@@ -1,0 +1,412 @@
+"""Candidates reused between frames: the matched features followed by optical flow, refreshed every K frames.
+
+While the diver points, the vehicle holds station: the candidates' features barely move from one
+frame to the next, yet the full candidate pass (SIFT on the kept half of both images, and the
+pointing corridor's CLAHE + SIFT) costs two thirds of a frame's CPU. ``CandidateReuse`` keeps the
+last full pass's matched pairs (main pass and corridor apart) and follows them into each new frame
+with pyramidal Lucas-Kanade flow in both rectified images. A followed pair is kept only if both
+eyes' flows converged, it still lies on one rectified row (``candidates.row_tolerance_px``) and its
+disparity changed like its neighbours' (within ``candidates.reuse_max_disparity_change_px``: the
+scene is rigid, so neighbouring features' disparities change alike however far the camera moved,
+while a flow that slid along an edge in one eye does not); the arm is measured on
+every frame, and each frame keeps the followed pairs inside ITS kept columns and corridor wedge.
+
+A new full pass runs on one frame every ``candidates.reuse_frames`` (K) frames (one pass at a
+time, on the greyscale images this module owns), spread over the next K - 1 frames in
+``PASS_PIECES`` pieces (left features, right features, matching + corridor), each piece in a
+background thread beside its frame's own work and waited for by the next frame, so that no frame
+carries a whole pass and the result never depends on timing. On the K-th frame the pass is taken
+and followed to that frame in one flow step: the decided frames use features found at most 2K - 1
+frames earlier. The frame is computed afresh, exactly as without reuse, when there is nothing to
+follow (first frame, ``reset``), when fewer than ``candidates.reuse_min_tracked_fraction`` of the
+pairs survive a flow step (the camera or the scene moved: a new scene, a moved object; pairs near
+the image border or in the margin next to the diver do not count), when this frame's kept columns
+reach beyond the scanned ones, and (the corridor alone, scanned afresh) when less than
+``candidates.reuse_min_corridor_cover`` of this frame's wedge lies in the scanned wedge.
+
+Single frames (``perceive``, the scene-family checks) never reuse anything: their results are the
+full pass's. An object that enters the view, or appears, is found by the next background pass.
+"""
+
+from __future__ import annotations
+
+from concurrent.futures import Future
+from dataclasses import dataclass
+from typing import Iterator, Mapping
+
+import cv2
+import numpy as np
+from scipy.spatial import cKDTree
+
+from .calibration import StereoRig
+from .candidates import SiftDetector, hand_extent_px, kept_columns
+from .corridor import CorridorDetector
+from .threads import shared_pool
+from .values import ArmKeypoints, Candidates
+
+__all__ = ["CandidateReuse", "Views", "follow_pairs", "views_of", "inside_polygon", "polygon_cover"]
+
+LK_WINDOW_PX = 21
+"""Lucas-Kanade window side, pixels (OpenCV's default)."""
+LK_LEVELS = 3
+"""Pyramid levels above full resolution: converges for shifts up to ~8 x the half window (~80 px)."""
+LK_MAX_RESIDUAL = 30.0
+"""Largest mean absolute grey difference (0-255) over the window of a followed feature."""
+EDGE_PX = 48
+"""Pairs this close to the image border may leave the view in a flow step: their loss is not counted."""
+COLUMN_SLACK_PX = 24
+"""This frame's kept columns may reach this far beyond the scanned ones (the sliver next to the
+hand is not looked at again before the next pass) before the frame is computed afresh."""
+COLUMN_MARGIN_PX = 80.0
+"""The background pass scans the kept columns widened by this toward the diver: a wrist that moves
+less than this keeps this frame's columns inside the scanned ones."""
+
+_CRITERIA = (cv2.TERM_CRITERIA_EPS | cv2.TERM_CRITERIA_COUNT, 20, 0.03)
+
+
+@dataclass(frozen=True)
+class Views:
+    """One rectified pair in grey (the reuse's own copies: a camera may reuse its buffers)."""
+
+    left: np.ndarray
+    right: np.ndarray
+
+
+def _grey(image: np.ndarray) -> np.ndarray:
+    """Return a uint8 single-channel copy of an image (BGR or grey)."""
+    return np.array(image, copy=True) if image.ndim == 2 else cv2.cvtColor(image, cv2.COLOR_BGR2GRAY)
+
+
+def views_of(left_rect: np.ndarray, right_rect: np.ndarray) -> Views:
+    """Return the grey pair of a rectified frame."""
+    return Views(_grey(left_rect), _grey(right_rect))
+
+
+def _flow(prev: np.ndarray, cur: np.ndarray, pts: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Return (new points, converged mask) of ``pts`` followed from one grey image to the next.
+
+    Both images are cut to the points' bounding box widened by the flow's reach (the pyramids
+    OpenCV builds for every call cost in proportion to the area).
+    """
+    if len(pts) == 0:
+        return np.zeros((0, 2)), np.zeros(0, bool)
+    h, w = prev.shape[:2]
+    reach = LK_WINDOW_PX * 2 ** LK_LEVELS
+    x0, y0 = np.maximum(np.floor(pts.min(axis=0)).astype(int) - reach, 0)
+    x1, y1 = np.minimum(np.ceil(pts.max(axis=0)).astype(int) + reach + 1, [w, h])
+    p0 = np.ascontiguousarray(pts - [x0, y0], np.float32).reshape(-1, 1, 2)
+    p1, status, err = cv2.calcOpticalFlowPyrLK(prev[y0:y1, x0:x1], cur[y0:y1, x0:x1], p0, None,
+                                               winSize=(LK_WINDOW_PX, LK_WINDOW_PX), maxLevel=LK_LEVELS,
+                                               criteria=_CRITERIA)
+    ok = (status.ravel() == 1) & (err.ravel() <= LK_MAX_RESIDUAL)
+    return p1.reshape(-1, 2).astype(np.float64) + [x0, y0], ok
+
+
+def follow_pairs(prev: Views, cur: Views, cands: Candidates, row_tolerance_px: float,
+                 max_disparity_change_px: float) -> tuple[Candidates, np.ndarray]:
+    """Return the matched pairs moved from ``prev`` to ``cur`` (every row) and which of them are still consistent.
+
+    A pair survives when both flows converged, both points lie in the image, their rows agree within
+    ``row_tolerance_px`` and its disparity change differs by at most ``max_disparity_change_px``
+    from the median change of its ``NEIGHBOURS`` nearest pairs (``disparity_outliers``).
+    Descriptors and sizes are carried over (they describe the same physical features).
+    """
+    if len(cands) == 0:
+        return cands, np.zeros(0, bool)
+    left, ok_l = _flow(prev.left, cur.left, cands.left_px)
+    right, ok_r = _flow(prev.right, cur.right, cands.right_px)
+    h, w = cur.left.shape[:2]
+    inside = np.all((left >= 0) & (left <= [w - 1, h - 1]) & (right >= 0) & (right <= [w - 1, h - 1]), axis=1)
+    same_row = np.abs(left[:, 1] - right[:, 1]) <= row_tolerance_px
+    ok = ok_l & ok_r & inside & same_row
+    change = (left[:, 0] - right[:, 0]) - cands.disparity_px
+    keep = ok & ~disparity_outliers(cands.left_px, change, ok, max_disparity_change_px)
+    return Candidates(left, right, cands.descriptors, cands.sizes_px), keep
+
+
+NEIGHBOURS = 8
+"""Pairs whose disparity change a followed pair's is compared with."""
+
+
+def disparity_outliers(points_px: np.ndarray, change_px: np.ndarray, valid: np.ndarray, tolerance_px: float
+                       ) -> np.ndarray:
+    """Return which pairs' disparity change differs by more than ``tolerance_px`` from their neighbours' median.
+
+    Neighbours: the ``NEIGHBOURS`` nearest valid pairs in the image (the pair itself excluded).
+    With fewer valid pairs than that the median of all valid ones is used.
+    """
+    out = np.ones(len(points_px), bool)
+    idx = np.nonzero(valid)[0]
+    if len(idx) < 2:
+        return out
+    if len(idx) <= NEIGHBOURS:
+        ref = np.full(len(points_px), np.median(change_px[idx]))
+    else:
+        _, nn = cKDTree(points_px[idx]).query(points_px, k=NEIGHBOURS + 1)
+        near = change_px[idx][nn]                              # (N, k + 1): the pair itself is among them
+        own = idx[nn] == np.arange(len(points_px))[:, None]
+        near = np.where(own, np.nan, near)[:, :NEIGHBOURS + 1]
+        ref = np.nanmedian(near, axis=1)
+    out = ~(np.abs(change_px - ref) <= tolerance_px)
+    return out
+
+
+def inside_polygon(points_px: np.ndarray, poly: np.ndarray) -> np.ndarray:
+    """Return which points lie inside (or on) a convex polygon."""
+    if len(points_px) == 0:
+        return np.zeros(0, bool)
+    contour = np.asarray(poly, np.float32).reshape(-1, 1, 2)
+    return np.array([cv2.pointPolygonTest(contour, (float(x), float(y)), False) >= 0 for x, y in points_px], bool)
+
+
+def polygon_cover(poly: np.ndarray, scanned: np.ndarray, width: int, height: int) -> float:
+    """Return the fraction of ``poly``'s area inside the image that also lies inside ``scanned`` (convex)."""
+    frame = np.array([[0, 0], [width, 0], [width, height], [0, height]], np.float32)
+    area, clipped = cv2.intersectConvexConvex(np.asarray(poly, np.float32), frame)
+    if area <= 0 or clipped is None:
+        return 1.0
+    common, _ = cv2.intersectConvexConvex(clipped.reshape(-1, 2), np.asarray(scanned, np.float32))
+    return float(max(common, 0.0) / area)
+
+
+PASS_PIECES = 3
+"""Pieces of a full pass (``CandidateReuse._full_pass``), spread over the K - 1 frames before it is taken."""
+
+
+def _run_pieces(job: _Job, count: int) -> None:
+    """Run up to ``count`` pieces of a job's pass (in the background thread, beside the frame's own work)."""
+    for _ in range(count):
+        if job.scan is not None:
+            return
+        job.scan = next(job.pieces)
+
+
+def _finish(job: _Job) -> _Scan:
+    """Return a job's scan, running the pieces it has left (none when it kept pace)."""
+    while job.scan is None:
+        job.scan = next(job.pieces)
+    return job.scan
+
+
+def _stack(a: Candidates, b: Candidates) -> Candidates:
+    """Return two candidate sets as one (descriptors and sizes kept where both have them)."""
+    same = a.descriptors.shape[1:] == b.descriptors.shape[1:] and len(a.descriptors) == len(a) \
+        and len(b.descriptors) == len(b)
+    desc = np.vstack([a.descriptors, b.descriptors]) if same else np.zeros((0, 0), np.float32)
+    sizes = np.r_[a.sizes_px, b.sizes_px] if len(a.sizes_px) == len(a) and len(b.sizes_px) == len(b) else np.zeros(0)
+    return Candidates(np.vstack([a.left_px, b.left_px]), np.vstack([a.right_px, b.right_px]), desc, sizes)
+
+
+@dataclass
+class _Scan:
+    """A full candidate pass of one frame: main-pass and corridor matches, and where it looked."""
+
+    views: Views
+    main: Candidates
+    corridor: Candidates | None            # None: the corridor was not scanned with this pass
+    cols: tuple[tuple[int, int], tuple[int, int]]
+    wedge: np.ndarray | None
+    counted: tuple[int, int]                # left columns whose pairs count for the lost fraction (not the margin)
+
+
+@dataclass
+class _Job:
+    """A full pass spread over the next frames: its pieces, the piece in flight, frames until it is taken."""
+
+    pieces: Iterator[_Scan | None]       # yields None after each piece, then the scan
+    per_frame: int                       # pieces run per frame
+    due: int
+    future: Future | None = None         # the pieces started on the current frame
+    scan: _Scan | None = None
+
+
+class CandidateReuse:
+    """Follows a frame sequence's candidate matches between full passes (see the module doc).
+
+    Per frame the core calls ``step`` (in a helper thread, while the pose runs), then, once it has
+    returned, ``main_candidates`` / ``corridor_candidates`` (or ``fresh``) and ``schedule``. The
+    background pass runs on its own detectors (their SIFT objects are not shared with the core's).
+    """
+
+    def __init__(self, interval_frames: int, min_tracked_fraction: float, max_disparity_change_px: float,
+                 min_corridor_cover: float, detector: SiftDetector, corridor: CorridorDetector | None,
+                 row_tolerance_px: float) -> None:
+        self.interval_frames = int(interval_frames)
+        self.min_tracked_fraction = float(min_tracked_fraction)
+        self.max_disparity_change_px = float(max_disparity_change_px)
+        self.min_corridor_cover = float(min_corridor_cover)
+        self.row_tolerance_px = float(row_tolerance_px)
+        self.detector, self.corridor = detector, corridor
+        self.detector.concurrent = False            # the background pass runs in one thread
+        if corridor is not None:
+            corridor.concurrent = False
+        self.counts = {"fresh": 0, "reused": 0, "refreshed": 0, "lost": 0, "corridor_scans": 0}
+        self.last_reason = ""
+        self._state: _Scan | None = None
+        self._views: Views | None = None
+        self._job: _Job | None = None
+        self._scanned_now = False                    # this frame was computed afresh
+
+    @classmethod
+    def from_params(cls, params: Mapping) -> "CandidateReuse | None":
+        """Build the reuse from effective parameters; None when ``candidates.reuse_frames`` is below 2."""
+        if int(params["candidates.reuse_frames"]) < 2:
+            return None
+        corridor = CorridorDetector.from_params(params) if params.get("corridor.enabled") else None
+        return cls(params["candidates.reuse_frames"], params["candidates.reuse_min_tracked_fraction"],
+                   params["candidates.reuse_max_disparity_change_px"], params["candidates.reuse_min_corridor_cover"],
+                   SiftDetector.from_params(params), corridor, params["candidates.row_tolerance_px"])
+
+    def has_matches(self) -> bool:
+        """True when there are matches to follow into the next frame (it will probably be reused)."""
+        return self._state is not None
+
+    # -- per frame --------------------------------------------------------------------------------
+    def step(self, left_rect: np.ndarray, right_rect: np.ndarray) -> bool:
+        """Take a new frame: follow the kept matches into it; return whether they can be used.
+
+        Call once per frame, first. False (the frame must be computed afresh) when there
+        is nothing to follow or too few pairs survived the flow.
+        """
+        cur = views_of(left_rect, right_rect)
+        self._views = cur
+        job = self._job
+        if job is not None:
+            if job.future is not None:
+                job.future.result()                  # the pieces the previous frame started
+                job.future = None
+            job.due -= 1
+            if job.due <= 0:
+                self._job = None
+                self._state = _finish(job)           # followed from its own frame below, in one step
+            else:                                    # this frame's share runs beside the frame's own work
+                job.future = shared_pool("reuse", 1).submit(_run_pieces, job, job.per_frame)
+        self._scanned_now = False
+        if self._state is None:
+            self.last_reason = "nothing to follow"
+            return False
+        return self._follow(self._state.views, cur)
+
+    def _follow(self, prev: Views, cur: Views) -> bool:
+        """Follow the state's main and corridor matches from ``prev`` to ``cur``; False when too many were lost."""
+        state = self._state
+        n_main = len(state.main)
+        both = state.main if state.corridor is None else _stack(state.main, state.corridor)
+        moved, keep = follow_pairs(prev, cur, both, self.row_tolerance_px, self.max_disparity_change_px)
+        # pairs in the margin next to the diver (it moves with the diver) or near the border (they
+        # leave the view as the camera moves) do not tell whether the scene changed
+        x, y = both.left_px[:, 0], both.left_px[:, 1]
+        h, w = cur.left.shape[:2]
+        counted = ((x >= max(state.counted[0], EDGE_PX)) & (x < min(state.counted[1], w - EDGE_PX))
+                   & (y >= EDGE_PX) & (y < h - EDGE_PX))
+        total, kept = int(counted.sum()), int((keep & counted).sum())
+        rows = np.arange(len(both))
+        main = moved.subset(keep & (rows < n_main))
+        corridor = None if state.corridor is None else moved.subset(keep & (rows >= n_main))
+        if total and kept < self.min_tracked_fraction * total:
+            self.counts["lost"] += 1
+            self.last_reason = f"{kept} of {total} matches followed"
+            self._state = None
+            self._cancel()
+            return False
+        self._state = _Scan(cur, main, corridor, state.cols, state.wedge, state.counted)
+        return True
+
+    def main_candidates(self, arm: ArmKeypoints, rig: StereoRig) -> Candidates | None:
+        """Return the followed main-pass matches inside this frame's kept columns, or None if not covered."""
+        state = self._state
+        if state is None:
+            return None
+        width = state.views.left.shape[1]
+        hand = hand_extent_px(arm, rig.baseline_m)
+        cols = [kept_columns(arm, side, width, self.detector.mask_side, self.detector.mask_offset_px, hand)
+                for side in ("left", "right")]
+        for (x0, x1), (s0, s1) in zip(cols, state.cols):
+            if x1 - x0 >= 8 and (x0 < s0 - COLUMN_SLACK_PX or x1 > s1 + COLUMN_SLACK_PX):
+                self.last_reason = "kept columns outside the scanned ones"
+                return None
+        m = state.main
+        keep = ((m.left_px[:, 0] >= cols[0][0]) & (m.left_px[:, 0] < cols[0][1])
+                & (m.right_px[:, 0] >= cols[1][0]) & (m.right_px[:, 0] < cols[1][1]))
+        return m.subset(keep)
+
+    def corridor_candidates(self, arm: ArmKeypoints, rig: StereoRig) -> Candidates | None:
+        """Return the followed corridor matches inside this frame's wedge, or None if it is not covered."""
+        state = self._state
+        if state is None or self.corridor is None or state.corridor is None or state.wedge is None:
+            return None
+        h, w = state.views.left.shape[:2]
+        wedge = self.corridor.wedge(arm, w, h, rig)
+        if wedge is None:
+            return Candidates.empty()
+        if polygon_cover(wedge, state.wedge, w, h) < self.min_corridor_cover:
+            self.last_reason = "the arm's corridor moved"
+            return None
+        return state.corridor.subset(inside_polygon(state.corridor.left_px, wedge))
+
+    def replace_corridor(self, found: Candidates, arm: ArmKeypoints, rig: StereoRig) -> None:
+        """Keep a corridor scanned afresh on this frame (its wedge from ``arm``) for the next frames."""
+        if self._state is not None and self.corridor is not None:
+            h, w = self._state.views.left.shape[:2]
+            self._state.corridor, self._state.wedge = found, self.corridor.wedge(arm, w, h, rig)
+            self.counts["corridor_scans"] += 1
+
+    def fresh(self, main: Candidates, corridor: Candidates | None, arm: ArmKeypoints, rig: StereoRig) -> None:
+        """Keep a frame computed afresh (the core's own full pass) as the matches to follow."""
+        self._cancel()
+        views = self._views
+        if views is None:
+            return
+        h, w = views.left.shape[:2]
+        cols = self._columns(arm, rig, w, margin_px=0.0)
+        wedge = self.corridor.wedge(arm, w, h, rig) if (self.corridor is not None and corridor is not None) else None
+        self._state = _Scan(views, main, corridor, cols, wedge, cols[0])
+        self._scanned_now = True
+        self.counts["fresh"] += 1
+
+    def schedule(self, arm: ArmKeypoints, rig: StereoRig) -> None:
+        """After a frame is decided: start the next background pass on it unless one is in flight."""
+        if self._job is not None or self._views is None or self._state is None or self._scanned_now:
+            return
+        pieces = self._full_pass(self._views, arm, rig)
+        frames = max(self.interval_frames - 1, 1)        # the pass is taken on the K-th frame from now
+        self._job = _Job(pieces, -(-PASS_PIECES // frames), self.interval_frames)
+        self.counts["refreshed"] += 1
+
+    def reset(self) -> None:
+        """Forget everything (a new sequence); waits for a background pass in flight."""
+        self._cancel()
+        self._state, self._views = None, None
+
+    # -- internals --------------------------------------------------------------------------------
+    def _cancel(self) -> None:
+        """Drop the background pass in flight (waited for: it holds the detectors)."""
+        job, self._job = self._job, None
+        if job is not None and job.future is not None:
+            job.future.result()
+
+    def _columns(self, arm: ArmKeypoints, rig: StereoRig, width: int, margin_px: float
+                 ) -> tuple[tuple[int, int], tuple[int, int]]:
+        """Return both images' kept columns for ``arm``, widened by ``margin_px`` where not at the border."""
+        hand = hand_extent_px(arm, rig.baseline_m)
+        out = []
+        for side in ("left", "right"):
+            x0, x1 = kept_columns(arm, side, width, self.detector.mask_side, self.detector.mask_offset_px, hand)
+            out.append((int(max(0, x0 - margin_px)) if x0 > 0 else 0, int(min(width, x1 + margin_px)) if x1 < width else width))
+        return out[0], out[1]
+
+    def _full_pass(self, views: Views, arm: ArmKeypoints, rig: StereoRig) -> Iterator[_Scan | None]:
+        """The full pass on one frame in ``PASS_PIECES`` pieces: left features, right features, matches + corridor."""
+        width = views.left.shape[1]
+        cols = self._columns(arm, rig, width, COLUMN_MARGIN_PX)
+        left = self.detector.features(views.left, cols[0], 0)
+        yield None
+        right = self.detector.features(views.right, cols[1], 1)
+        yield None
+        main = self.detector.match_features(left, right, rig)
+        corridor, wedge = None, None
+        if self.corridor is not None:
+            corridor = self.corridor.detect(views.left, views.right, arm, rig)
+            wedge = self.corridor.last_polygon
+        yield _Scan(views, main, corridor, cols, wedge, self._columns(arm, rig, width, 0.0)[0])
+

@@ -1,0 +1,182 @@
+"""Candidates reused between frames: followed by optical flow, refreshed in the background or when the scene changed."""
+
+from __future__ import annotations
+
+import cv2
+import numpy as np
+import pytest
+
+from dip3d_vehicle.config import load_params
+from dip3d_vehicle.perception.calibration import StereoRig
+from dip3d_vehicle.perception.keypoints_file import GivenKeypoints
+from dip3d_vehicle.perception.pipeline import Perception
+from dip3d_vehicle.perception.reuse import disparity_outliers, follow_pairs, polygon_cover, views_of
+
+W, H = 640, 480
+F_PX, BASELINE_M = 500.0, 0.1
+ARM = {"left": {"shoulder": [60.0, 300.0], "elbow": [110.0, 290.0], "wrist": [160.0, 280.0]},
+       "right": {"shoulder": [35.0, 300.0], "elbow": [85.0, 290.0], "wrist": [135.0, 280.0]}}
+# textured objects: (x0, y0) of an 80 px square in the left image, disparity px, texture seed
+OBJECTS = {"a": (300, 140, 20.0, 1), "b": (450, 250, 25.0, 2), "c": (260, 330, 18.0, 3)}
+
+
+def _rig() -> StereoRig:
+    p1 = [[F_PX, 0, W / 2, 0], [0, F_PX, H / 2, 0], [0, 0, 1, 0]]
+    p2 = [[F_PX, 0, W / 2, -F_PX * BASELINE_M], [0, F_PX, H / 2, 0], [0, 0, 1, 0]]
+    return StereoRig.from_rectified(p1, p2, (W, H))
+
+
+def _texture(seed: int, size: int = 80) -> np.ndarray:
+    """A high-contrast blob texture (SIFT finds tens of features on it)."""
+    noise = np.random.default_rng(seed).random((size, size))
+    tex = cv2.GaussianBlur(noise, (0, 0), 2.0)
+    tex = (tex - tex.min()) / (tex.max() - tex.min())
+    return (40 + 200 * tex).astype(np.uint8)
+
+
+def _render(shift=(0, 0), objects=OBJECTS, extra_seed: int = 0) -> tuple[np.ndarray, np.ndarray]:
+    """Return a rectified grey pair: a smooth background and the objects, everything moved by ``shift`` (px)."""
+    yy, xx = np.mgrid[0:H, 0:W]
+    rng = np.random.default_rng(100 + extra_seed)
+    back = (60 + 20 * np.sin((xx + shift[0]) / 90.0) + 10 * np.cos((yy + shift[1]) / 70.0)).astype(np.float64)
+    left, right = back.copy(), back.copy()
+    for x0, y0, disparity, seed in objects.values():
+        tex = _texture(seed).astype(np.float64)
+        x, y = x0 + shift[0], y0 + shift[1]
+        for img, xs in ((left, x), (right, x - disparity)):
+            xi, yi = int(round(xs)), int(round(y))
+            img[yi:yi + 80, xi:xi + 80] = tex
+    noise = rng.normal(0.0, 0.5, (2, H, W))
+    return tuple(np.clip(img + n, 0, 255).astype(np.uint8) for img, n in zip((left, right), noise))
+
+
+def _core(reuse_frames: int = 3) -> Perception:
+    params = load_params("default", (), {"pose.backend": "keypoints", "candidates.reuse_frames": reuse_frames})
+    return Perception(_rig(), params, GivenKeypoints("right", ARM))
+
+
+def _in_box(cands, x0, y0, size=80) -> int:
+    p = cands.left_px
+    return int(np.sum((p[:, 0] >= x0) & (p[:, 0] < x0 + size) & (p[:, 1] >= y0) & (p[:, 1] < y0 + size)))
+
+
+def test_followed_pairs_move_with_the_camera():
+    """A 3 px / 2 px camera shift: every pair followed, each moved by the shift."""
+    core = _core(0)
+    a, b = _render(), _render(shift=(3, 2))
+    arm = core.pose.estimate(*a, core.rig)
+    cands = core.detector.detect(*a, arm, core.rig)
+    assert len(cands) > 40
+    moved, keep = follow_pairs(views_of(*a), views_of(*b), cands, 1.5, 3.0)
+    assert keep.mean() > 0.95
+    step = moved.left_px[keep] - cands.left_px[keep]
+    assert np.median(np.abs(step - [3, 2])) < 0.2
+    assert np.allclose(moved.disparity_px[keep], cands.disparity_px[keep], atol=1.0)
+
+
+def test_pairs_that_leave_their_row_are_dropped():
+    """The right image alone moves down 6 px (not a rigid scene): no pair stays on one row."""
+    core = _core(0)
+    a = _render()
+    b_left, _ = _render()
+    _, b_right = _render(shift=(0, 6))
+    arm = core.pose.estimate(*a, core.rig)
+    cands = core.detector.detect(*a, arm, core.rig)
+    _, keep = follow_pairs(views_of(*a), views_of(b_left, b_right), cands, 1.5, 3.0)
+    assert keep.mean() < 0.05
+
+
+def test_first_frame_is_the_full_pass_exactly():
+    """A single frame (no sequence) gives exactly what the core without reuse gives."""
+    frame = _render()
+    with_reuse, without = _core(3), _core(0)
+    assert without.reuse is None
+    r1, r0 = with_reuse.process_rectified(*frame), without.process_rectified(*frame)
+    assert with_reuse.reuse.counts["fresh"] == 1
+    np.testing.assert_array_equal(r1.candidates.left_px, r0.candidates.left_px)
+    np.testing.assert_array_equal(r1.candidates.right_px, r0.candidates.right_px)
+
+
+def test_a_steady_scene_is_followed_and_refreshed_in_the_background():
+    """Frames 1.. are followed; an object that appears is found by the background pass, not before."""
+    core = _core(3)
+    first = core.process_rectified(*_render())            # frame 0: fresh
+    assert core.reuse.counts == {"fresh": 1, "reused": 0, "refreshed": 0, "lost": 0, "corridor_scans": 0}
+    assert not first.candidates_followed
+    with_d = dict(OBJECTS, d=(520, 100, 22.0, 4))
+    seen = []
+    for k in range(1, 9):                                 # the camera drifts 1 px per frame; "d" appears at frame 2
+        frame = _render(shift=(k, 0), objects=OBJECTS if k < 2 else with_d)
+        result = core.process_rectified(*frame)
+        seen.append(_in_box(result.candidates, 520 + k, 100))
+        assert result.candidates_followed and result.to_json(core.rig)["candidates_followed"]
+    counts = core.reuse.counts
+    assert counts["fresh"] == 1 and counts["lost"] == 0 and counts["reused"] == 8
+    # background passes start on frames 1, 4, 7 and are taken 3 frames later (frames 4 and 7): the
+    # pass of frame 1 predates "d"; the one of frame 4 (taken at frame 7) has it
+    assert counts["refreshed"] == 3
+    assert seen[:6] == [0] * 6
+    assert seen[6] > 5 and seen[7] > 5
+
+
+def test_a_moved_object_triggers_a_fresh_frame():
+    """Object "a" jumps 120 px: its pairs are lost and the frame is computed afresh (= the single-frame result)."""
+    core = _core(3)
+    core.process_rectified(*_render())
+    core.process_rectified(*_render(shift=(1, 0)))
+    assert core.reuse.counts["reused"] == 1
+    moved = dict(OBJECTS, a=(OBJECTS["a"][0], OBJECTS["a"][1] + 120, *OBJECTS["a"][2:]))
+    frame = _render(shift=(1, 0), objects=moved)
+    result = core.process_rectified(*frame)
+    assert core.reuse.counts["lost"] == 1 and core.reuse.counts["fresh"] == 2
+    reference = _core(0).process_rectified(*frame)
+    np.testing.assert_array_equal(result.candidates.left_px, reference.candidates.left_px)
+    assert _in_box(result.candidates, 301, 260) > 5                # found where it is now
+
+
+def test_a_camera_jump_triggers_a_fresh_frame():
+    core = _core(3)
+    core.process_rectified(*_render())
+    core.process_rectified(*_render(shift=(-150, 40)))
+    assert core.reuse.counts["lost"] == 1 and core.reuse.counts["fresh"] == 2
+
+
+def test_reset_starts_a_new_sequence():
+    core = _core(3)
+    core.process_rectified(*_render())
+    core.reset()
+    core.process_rectified(*_render())
+    assert core.reuse.counts["fresh"] == 2 and core.reuse.counts["reused"] == 0
+
+
+def test_a_disparity_change_unlike_its_neighbours_is_an_outlier():
+    """A rigid approach changes every disparity alike (even by 6 px); one pair that slid 4 px along its row stands out."""
+    rng = np.random.default_rng(0)
+    pts = rng.uniform(0, 400, (60, 2))
+    change = 6.0 + rng.normal(0, 0.2, 60)
+    assert not disparity_outliers(pts, change, np.ones(60, bool), 2.0).any()
+    change[17] += 4.0
+    out = disparity_outliers(pts, change, np.ones(60, bool), 2.0)
+    assert out[17] and out.sum() == 1
+    one = np.zeros(60, bool)
+    one[3] = True                                              # a lone followed pair has nothing to be checked against
+    assert disparity_outliers(pts, change, one, 2.0).all()
+
+
+def test_polygon_cover():
+    square = np.array([[100, 100], [200, 100], [200, 200], [100, 200]], float)
+    assert polygon_cover(square, square, W, H) == pytest.approx(1.0)
+    assert polygon_cover(square, square + [50, 0], W, H) == pytest.approx(0.5)
+    assert polygon_cover(square, square + [300, 0], W, H) == pytest.approx(0.0)
+    outside = square + [0, 330]                                   # half below the image: only its visible half counts
+    assert polygon_cover(outside, square + [0, 280], W, H) == pytest.approx(1.0)
+
+
+def test_replay_compares_a_followed_frame_on_its_status_only():
+    """Replay decides each kept pair alone: a run's followed frame may differ by a few px, not in status."""
+    from dip3d_vehicle.commands.replay import changed
+    old = {"status": "ok", "target": {"left_px": [100.0, 100.0]}, "candidates_followed": True}
+    assert not changed(old, {"status": "ok", "target": {"left_px": [106.0, 100.0]}}, 2.0)
+    assert changed(old, {"status": "nothing_on_ray", "target": None}, 2.0)
+    fresh = dict(old, candidates_followed=False)
+    assert changed(fresh, {"status": "ok", "target": {"left_px": [106.0, 100.0]}}, 2.0)
