@@ -294,7 +294,8 @@ class SelectTarget(_ArmWatch):
         keep = [h.xyz_m for h in bb.fusion.hypotheses]
         step = plan_close_in(arm3d.xyz_m[[0, 2]], np.reshape(keep, (-1, 3)), c.decide_max_range_m,
                              c.close_in_standoff_m, c.close_in_clearance_m, bb.servo.focal_px,
-                             bb.servo.principal_point_px, c.second_look_margin_px, c.close_in_min_step_m)
+                             bb.servo.principal_point_px, c.second_look_margin_px, c.close_in_min_step_m,
+                             max_descent_m=c.close_in_max_descent_m)
         if step is None:
             bb.say(f"diver {rng:.1f} m away (> {c.decide_max_range_m:g} m), but no advance keeps every candidate "
                    f"in view and clear")
@@ -636,7 +637,8 @@ class CloseIn(_ArmWatch):
 
     The advance was planned to end no nearer the diver than ``behaviour.close_in_standoff_m``, with
     every object hypothesis in view and none on the path; it is commanded as surge and sway at
-    ``behaviour.close_in_speed_m_s`` for its length over that speed (heading kept), then nothing for
+    ``behaviour.close_in_speed_m_s`` (with heave when it sinks, ``behaviour.close_in_max_descent_m``)
+    for its length over that speed (heading kept), then nothing for
     ``behaviour.second_look_settle_s``. The diver gone from the view (``arm_lost_frames`` frames
     without the raised arm) -> stop, back to waiting (holding).
     """
@@ -653,12 +655,14 @@ class CloseIn(_ArmWatch):
             self.move_s, self.command = 0.0, None
             return
         v = c.close_in_speed_m_s
-        dx, _, dz = step.offset_m
-        n = max(math.hypot(dx, dz), 1e-9)
+        dx, dy, dz = step.offset_m
+        n = max(math.sqrt(dx * dx + dy * dy + dz * dz), 1e-9)
         self.move_s = step.distance_m / v
-        self.command = VelocityCommand(surge_m_s=v * dz / n, sway_m_s=v * dx / n)
+        self.command = VelocityCommand(surge_m_s=v * dz / n, sway_m_s=v * dx / n, heave_m_s=v * dy / n)
+        down = f", {step.descent_m:.2f} m down" if step.descent_m > 0 else ""
         bb.say(f"diver {step.range_before_m:.1f} m away: closing in {step.distance_m:.2f} m to "
-               f"{step.range_after_m:.1f} m before deciding", "notice", pilot=True)
+               f"{step.range_after_m:.1f} m{down} before deciding", "notice", pilot=True)
+        bb.say(f"close in: the diver's shoulder seen from {math.degrees(step.elevation_after_rad):.1f} deg below")
 
     def tick(self, bb: Blackboard) -> str | None:
         c = bb.config

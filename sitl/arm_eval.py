@@ -22,7 +22,13 @@ per joint, the disparity error (px) and the error divided by the method's own si
 method's arm: "right" / "wrong" (a confident choice of the pointed / another placard) or why it
 abstained (one frame: the mission fuses several).
 
-    python -m sitl.arm_eval [--scenario paper_pool] [--seeds 0-9] [--frames 6] [--select stereo ...] [--json OUT]
+With ``--pose-offset`` the frames are rendered from the vehicle's start pose moved (north, east,
+down in metres, yaw in degrees): what the arm looks like from where a close-in would take the vehicle.
+With ``--select`` each frame also records which way it leans (the pointed placard's probability
+against the best other's, ``lean``), since the mission fuses frames that are each ambiguous alone.
+
+    python -m sitl.arm_eval [--scenario paper_pool] [--seeds 0-9] [--frames 6] [--select stereo ...]
+                            [--pose-offset DN,DE,DD,DYAW] [--json OUT]
 """
 
 from __future__ import annotations
@@ -55,8 +61,12 @@ def _angle_deg(a: np.ndarray, b: np.ndarray) -> float:
     return math.degrees(math.acos(float(np.clip(a @ b, -1.0, 1.0))))
 
 
-def evaluate_seed(scenario: str, seed: int, frames: int, params, select: Sequence[str] = ()) -> list[dict]:
-    """Render ``frames`` frames of one seed and return one row per frame where BlazePose found the arm."""
+def evaluate_seed(scenario: str, seed: int, frames: int, params, select: Sequence[str] = (),
+                  pose_offset: Sequence[float] = (0.0, 0.0, 0.0, 0.0)) -> list[dict]:
+    """Render ``frames`` frames of one seed and return one row per frame where BlazePose found the arm.
+
+    ``pose_offset``: the vehicle's pose moved from its start by (north m, east m, down m, yaw deg).
+    """
     from dip3d_vehicle.perception.blazepose import JOINT_PATCH_M, BlazePoseEstimator, body_disparity
     from dip3d_vehicle.perception.joint_stereo import joint_disparities, match_joint_disparity
     from dip3d_vehicle.perception.keypoints_file import GivenKeypoints
@@ -75,7 +85,9 @@ def evaluate_seed(scenario: str, seed: int, frames: int, params, select: Sequenc
         perception = Perception(rig, params, GivenKeypoints(sc.diver.arm))
     truth_pose = GivenKeypoints(sc.diver.arm)
     period = 1.0 / float(params["sitl.camera_rate_hz"])
-    v = sc.initial_vehicle_pose
+    v0, (dn, de, dd, dyaw) = sc.initial_vehicle_pose, pose_offset
+    v = v0._replace(north_m=v0.north_m + dn, east_m=v0.east_m + de, depth_m=v0.depth_m + dd,
+                    yaw_rad=v0.yaw_rad + math.radians(dyaw))
     rows = []
     with StereoRenderer(sc, params) as renderer:
         for k in range(frames):
@@ -118,15 +130,31 @@ def evaluate_seed(scenario: str, seed: int, frames: int, params, select: Sequenc
                     row[name]["sigma_px"] = sig[name].round(2).tolist()
             if perception is not None:
                 for name in (m for m in disp if m in select):
-                    row[name]["select"] = _select(perception, frame.meta, rig, left_img, right_img, arm, disp[name],
-                                                  sig.get(name), name == "landmarks")
+                    row[name]["select"], row[name]["p"] = _select(perception, frame.meta, rig, left_img, right_img, arm,
+                                                                  disp[name], sig.get(name), name == "landmarks")
             rows.append(row)
     return rows
 
 
+def _placard_probabilities(selection, meta: dict, rig) -> list[float]:
+    """Return [p(pointed placard), p(best other placard), p(nothing detected)] of one frame's selection."""
+    p: dict[Any, float] = {}
+    for obj, score in zip(selection.objects, selection.scores):
+        best, best_d = None, 0.5
+        for pid, info in meta["placards"].items():
+            d = float(np.linalg.norm(rig.R1 @ np.asarray(info["xyz_cam_m"]) - obj.xyz_m))
+            if d < best_d:
+                best, best_d = pid, d
+        p[best] = p.get(best, 0.0) + float(score)
+    target = meta["target_id"]
+    other = max([v for k, v in p.items() if k != target] + [0.0])
+    return [round(p.get(target, 0.0), 3), round(other, 3), round(float(selection.none_probability), 3)]
+
+
 def _select(perception, meta: dict, rig, left_img: np.ndarray, right_img: np.ndarray, arm, disparity_px: np.ndarray,
-            sigma_px: np.ndarray | None, keep_right: bool) -> str:
-    """Return one frame's selection with this arm: "right", "wrong" (confident), or why it abstained."""
+            sigma_px: np.ndarray | None, keep_right: bool) -> tuple[str, list[float] | None]:
+    """Return one frame's selection with this arm: "right", "wrong" (confident), or why it abstained;
+    and [p(pointed placard), p(best other placard), p(nothing)] when the selector scored objects."""
     from dataclasses import replace
 
     if keep_right:
@@ -137,21 +165,23 @@ def _select(perception, meta: dict, rig, left_img: np.ndarray, right_img: np.nda
                         disparity_sigma_px=None if sigma_px is None else np.maximum(sigma_px, floor))
     checked = perception.check_arm(given)
     if checked.status != "ok":
-        return checked.status
+        return checked.status, None
     cands = perception.detector.detect(left_img, right_img, given, rig)
     cands = perception.add_corridor(left_img, right_img, given, cands)
     res = perception.decide(checked, cands)
+    probs = None if res.selection is None or res.selection.method != "default" else \
+        _placard_probabilities(res.selection, meta, rig)
     if res.status != "ok":
-        return res.status
+        return res.status, probs
     if res.selection.ambiguous:
-        return "ambiguous"
+        return "ambiguous", probs
     xyz = res.selection.target.xyz_m
     best, best_d = None, 0.5
     for pid, info in meta["placards"].items():
         d = float(np.linalg.norm(rig.R1 @ np.asarray(info["xyz_cam_m"]) - xyz))
         if d < best_d:
             best, best_d = pid, d
-    return "right" if best == meta["target_id"] else f"wrong"
+    return ("right" if best == meta["target_id"] else "wrong"), probs
 
 
 
@@ -181,6 +211,12 @@ def summarise(rows: list[dict]) -> dict:
             chosen = [r[name]["select"] for r in rows if name in r and "select" in r[name]]
             if chosen:  # the selector's per-frame outcomes with this method's arm (--select)
                 res["select"] = dict(sorted(Counter(chosen).items()))
+            probs = np.array([r[name]["p"] for r in rows if name in r and r[name].get("p") is not None])
+            if len(probs):  # which way the frames lean: the pointed placard's probability vs the best other's
+                res["lean"] = {"right": int(np.sum(probs[:, 0] > probs[:, 1])), "wrong": int(np.sum(probs[:, 0] < probs[:, 1])),
+                               "tie": int(np.sum(probs[:, 0] == probs[:, 1])),
+                               "p_pointed_median": round(float(np.median(probs[:, 0])), 2),
+                               "p_best_other_median": round(float(np.median(probs[:, 1])), 2)}
         out[name] = res
     return out
 
@@ -207,15 +243,20 @@ def main(argv: Sequence[str] | None = None) -> None:
     ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
     ap.add_argument("--select", nargs="*", default=[], metavar="METHOD",
                     help="also run the selector per frame with these methods' arms")
+    ap.add_argument("--pose-offset", default="0,0,0,0", metavar="DN,DE,DD,DYAW",
+                    help="render from the vehicle's start pose moved by north, east, down (m) and yaw (deg)")
     ap.add_argument("--json", default=None)
     args = ap.parse_args(argv)
+    offset = [float(v) for v in args.pose_offset.split(",")]
+    if len(offset) != 4:
+        ap.error(f"--pose-offset: {args.pose_offset!r} is not four comma-separated numbers (north, east, down m, yaw deg)")
     sets = dict(s.split("=", 1) for s in args.set)
     sets.setdefault("sitl.pose_source", "blazepose")
     base = load_params(overrides=sets)
     rows: list[dict] = []
     for seed in _seeds(args.seeds):
         params = sim_params(base, load_scenario(args.scenario, seed))
-        got = evaluate_seed(args.scenario, seed, args.frames, params, args.select)
+        got = evaluate_seed(args.scenario, seed, args.frames, params, args.select, offset)
         rows += got
         line = {m: [r[m]["deg"] for r in got if m in r] for m in METHODS}
         print(f"seed {seed}: {len(got)} frames " + " ".join(f"{m} {np.median(v):.0f}" for m, v in line.items() if v),

@@ -9,7 +9,7 @@ import pytest
 
 from behaviours.blackboard import Observation, StatusText
 from behaviours.fusion import PointFusion
-from behaviours.close_in import horizontal_range_m, path_clearance_m, plan_close_in
+from behaviours.close_in import elevation_rad, horizontal_range_m, path_clearance_m, plan_close_in
 from behaviours.second_look import _in_view
 from dip3d_vehicle.perception.pipeline import PerceptionResult
 from dip3d_vehicle.perception.values import Arm3D, ArmKeypoints, Candidates, ObjectCandidate, Selection
@@ -88,6 +88,45 @@ def test_every_candidate_stays_in_view_and_off_the_path():
     assert step is None or path_clearance_m(on_path, step.offset_m) >= 0.5
 
 
+FAR_DIVER = np.array([[-1.0, 0.0, 4.4], [-0.75, 0.05, 4.1]])
+"""far_diver's diver at 4.5 m (shoulder, wrist), at the camera's height."""
+FAR_PLACARDS = np.array([[0.66, 0.22, 1.35], [0.65, 0.12, 2.41], [0.43, 0.02, 3.47]])
+"""far_diver's placards between the vehicle and the diver (1.5, 2.5, 3.5 m)."""
+
+
+def test_the_close_in_may_sink_to_see_the_arm_from_below_keeping_everything_in_view():
+    level = plan_close_in(FAR_DIVER, FAR_PLACARDS, 3.5, 2.0, 0.5, F_PX, PP_PX, margin_px=80.0)
+    low = plan_close_in(FAR_DIVER, FAR_PLACARDS, 3.5, 2.0, 0.5, F_PX, PP_PX, margin_px=80.0, max_descent_m=0.8)
+    assert level.descent_m == 0.0 and level.offset_m[1] == 0.0
+    assert 0.3 <= low.descent_m <= 0.8 and low.offset_m[1] == pytest.approx(low.descent_m)
+    assert low.elevation_after_rad > level.elevation_after_rad + math.radians(3)
+    assert low.elevation_after_rad == pytest.approx(elevation_rad(FAR_DIVER[0], low.offset_m))
+    c = np.array(low.offset_m)
+    assert low.distance_m == pytest.approx(float(np.linalg.norm(c)))
+    assert low.range_after_m >= 3.5 - 1e-9 and path_clearance_m(FAR_PLACARDS, c) >= 0.5
+    pts = np.vstack([FAR_DIVER, FAR_PLACARDS])
+    for f in np.linspace(0.05, 1.0, 20):  # in view all along the straight path, not only at its end
+        assert _in_view(pts - f * c, F_PX, PP_PX, 80.0)
+    deeper = c + np.array([0.0, 0.05, 0.0])  # sinking more would lose the nearest placard at the top
+    assert low.descent_m == pytest.approx(0.8) or not _in_view(pts - deeper, F_PX, PP_PX, 80.0)
+
+
+def test_no_descent_reproduces_the_level_advance_and_a_bound_of_zero_never_heaves():
+    diver = np.array([[0.0, 0.0, 5.0], [0.3, 0.1, 4.6]])
+    step = plan_close_in(diver, np.zeros((0, 3)), 3.5, 2.0, 0.5, F_PX, PP_PX, max_descent_m=0.0)
+    assert step.offset_m == pytest.approx((0.0, 0.0, 1.5)) and step.descent_m == 0.0
+    low = plan_close_in(diver, np.zeros((0, 3)), 3.5, 2.0, 0.5, F_PX, PP_PX, max_descent_m=0.5)
+    assert low.offset_m == pytest.approx((0.0, 0.5, 1.5))  # nothing else to keep: the whole advance and descent
+    assert low.range_after_m == pytest.approx(3.5)
+
+
+def test_an_object_under_the_path_keeps_the_vehicle_from_sinking_onto_it():
+    below = np.array([[0.0, 0.6, 1.0]])  # an object 0.6 m under the camera, 1 m ahead
+    step = plan_close_in(np.array([[0.0, 0.0, 5.0]]), below, 3.5, 2.0, 0.5, F_PX, PP_PX, margin_px=0.0,
+                         max_descent_m=0.8)
+    assert step is not None and path_clearance_m(below, step.offset_m) >= 0.5
+
+
 def test_path_clearance_is_the_distance_to_the_segment():
     assert path_clearance_m([[1.0, 0.0, 1.0]], [0.0, 0.0, 2.0]) == pytest.approx(1.0)
     assert path_clearance_m([[0.0, 0.0, 3.0]], [0.0, 0.0, 2.0]) == pytest.approx(1.0)
@@ -102,7 +141,7 @@ def _close_inengaged_mission(rig, **over):
 
 
 def test_an_undecided_far_point_closes_in_slowly_then_decides_again_once(rig):
-    m = _close_inengaged_mission(rig)
+    m = _close_inengaged_mission(rig, **{"behaviour.close_in_max_descent_m": 0.0})  # level: surge and sway only
     enter(m, "select_target")
     fired = feed(m, [_frame()] * 5 + [None])
     assert fired[-1] == "close_in" and m.state == "close_in" and m.bb.close_ins == 1
@@ -129,6 +168,30 @@ def test_an_undecided_far_point_closes_in_slowly_then_decides_again_once(rig):
     assert "close_in" not in fired and m.state in ("confirm_point", "second_look")
     enter(m, "wait_for_diver")
     assert m.bb.close_ins == 0  # a new point may close in again
+
+
+def test_closing_in_below_commands_heave_with_the_advance_at_the_close_in_speed(rig):
+    m = _close_inengaged_mission(rig, **{"behaviour.close_in_max_descent_m": 0.5})
+    enter(m, "select_target")
+    assert feed(m, [_frame()] * 5 + [None])[-1] == "close_in"
+    step = m.bb.close_in_step
+    assert step.descent_m > 0 and step.offset_m[1] == pytest.approx(step.descent_m)
+    cmds, t0 = [], m.bb.now_s
+    for k in range(1, 2000):
+        m.bb.now_s = t0 + 0.02 * k
+        m.bb.observation = Observation(m.bb.now_s, k, result=_frame()) if k % 10 == 0 else None
+        trig = m.tick()
+        m.bb.observation = None
+        cmds.append(m.bb.command)
+        if trig:
+            break
+    assert trig == "closer"
+    moving = [c for c in cmds if c is not None]
+    assert all(c.heave_m_s > 0 and c.surge_m_s > 0 and c.yaw_rate_rad_s == 0 for c in moving)
+    assert all(math.sqrt(c.surge_m_s ** 2 + c.sway_m_s ** 2 + c.heave_m_s ** 2) == pytest.approx(0.15) for c in moving)
+    sunk = sum(c.heave_m_s for c in moving) * 0.02
+    assert sunk == pytest.approx(step.descent_m, abs=0.03) and cmds[-1] is None
+    assert any(isinstance(o, StatusText) and "m down" in o.text for o in m.bb.outbox)
 
 
 def test_a_near_diver_or_no_tries_never_closes_in(rig):

@@ -18,3 +18,13 @@ def test_the_summary_counts_the_selectors_outcomes_per_method():
     assert out["stereo"]["over_20deg"] == 3 and out["stereo"]["disp_err_median_px"] == [0.5, 1.0, 2.0]
     assert out["stereo"]["select"] == {"ambiguous": 1, "right": 2, "wrong": 1}
     assert "select" not in summarise([_row(10.0)])["stereo"]  # without --select: no outcomes
+
+
+def test_the_summary_says_which_way_the_frames_lean():
+    rows = [_row(10.0, "ambiguous"), _row(20.0, "ambiguous"), _row(5.0, "ambiguous"), _row(8.0, "nothing_on_ray")]
+    for r, p in zip(rows, ([0.45, 0.3, 0.1], [0.2, 0.5, 0.1], [0.4, 0.4, 0.2], None)):
+        r["stereo"]["p"] = p
+    lean = summarise(rows)["stereo"]["lean"]
+    assert (lean["right"], lean["wrong"], lean["tie"]) == (1, 1, 1)  # frames without scored objects not counted
+    assert lean["p_pointed_median"] == 0.4 and lean["p_best_other_median"] == 0.4
+    assert "lean" not in summarise([_row(10.0, "right")])["stereo"]
