@@ -19,6 +19,23 @@ def feed(m, results, t0: float = 0.0) -> list:
     return fired
 
 
+def move_until_trigger(m, result, max_ticks: int, tick_s: float = 0.02, every: int = 10) -> tuple:
+    """Tick the mission every ``tick_s`` (a result every ``every`` ticks) until a trigger fires.
+
+    Returns (trigger or None, the command of every tick): how a moving state ends and what it sent.
+    """
+    cmds, t0, trig = [], m.bb.now_s, None
+    for k in range(1, max_ticks):
+        m.bb.now_s = t0 + tick_s * k
+        m.bb.observation = Observation(m.bb.now_s, k, result=result) if k % every == 0 else None
+        trig = m.tick()
+        m.bb.observation = None
+        cmds.append(m.bb.command)
+        if trig:
+            break
+    return trig, cmds
+
+
 def enter(m, state: str) -> None:
     """Put the mission in ``state`` and run that state's enter hook (skipping the way there)."""
     m.machine.set_state(state)

@@ -7,14 +7,14 @@ import math
 import numpy as np
 import pytest
 
-from behaviours.blackboard import Observation, StatusText
+from behaviours.blackboard import StatusText
 from behaviours.fusion import PointFusion
 from behaviours.close_in import elevation_rad, horizontal_range_m, path_clearance_m, plan_close_in
 from behaviours.second_look import _in_view
 from dip3d_vehicle.perception.pipeline import PerceptionResult
 from dip3d_vehicle.perception.values import Arm3D, ArmKeypoints, Candidates, ObjectCandidate, Selection
 from sitl.scenario import load_scenario
-from mission_driver import engaged_mission, FRAME_S, enter, feed
+from mission_driver import engaged_mission, FRAME_S, enter, feed, move_until_trigger
 
 F_PX, PP_PX = 920.0, (800.0, 600.0)
 FAR_SHOULDER = np.array([-1.0, -0.3, 5.0])
@@ -148,15 +148,7 @@ def test_an_undecided_far_point_closes_in_slowly_then_decides_again_once(rig):
     step = m.bb.close_in_step
     assert step.range_before_m > 3.5 and step.range_after_m >= 2.0 and step.distance_m >= 0.3
     assert any(isinstance(o, StatusText) and "closing in" in o.text for o in m.bb.outbox)
-    cmds, t0 = [], m.bb.now_s
-    for k in range(1, 2000):
-        m.bb.now_s = t0 + 0.02 * k
-        m.bb.observation = Observation(m.bb.now_s, k, result=_frame()) if k % 10 == 0 else None
-        trig = m.tick()
-        m.bb.observation = None
-        cmds.append(m.bb.command)
-        if trig:
-            break
+    trig, cmds = move_until_trigger(m, _frame(), 2000)
     assert trig == "closer" and m.state == "select_target" and m.bb.fusion.frames == []
     moving = [c for c in cmds if c is not None]
     assert moving and all(c.heave_m_s == 0 and c.yaw_rate_rad_s == 0 and c.surge_m_s > 0 for c in moving)
@@ -176,15 +168,7 @@ def test_closing_in_below_commands_heave_with_the_advance_at_the_close_in_speed(
     assert feed(m, [_frame()] * 5 + [None])[-1] == "close_in"
     step = m.bb.close_in_step
     assert step.descent_m > 0 and step.offset_m[1] == pytest.approx(step.descent_m)
-    cmds, t0 = [], m.bb.now_s
-    for k in range(1, 2000):
-        m.bb.now_s = t0 + 0.02 * k
-        m.bb.observation = Observation(m.bb.now_s, k, result=_frame()) if k % 10 == 0 else None
-        trig = m.tick()
-        m.bb.observation = None
-        cmds.append(m.bb.command)
-        if trig:
-            break
+    trig, cmds = move_until_trigger(m, _frame(), 2000)
     assert trig == "closer"
     moving = [c for c in cmds if c is not None]
     assert all(c.heave_m_s > 0 and c.surge_m_s > 0 and c.yaw_rate_rad_s == 0 for c in moving)

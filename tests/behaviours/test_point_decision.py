@@ -15,7 +15,7 @@ from behaviours.machine import STATES
 from dip3d_vehicle.perception.pipeline import PerceptionResult
 from dip3d_vehicle.perception.values import Arm3D, ArmKeypoints, Candidates, ObjectCandidate, Selection
 from sitl.scenario import load_scenario
-from mission_driver import engaged_mission, FRAME_S, enter
+from mission_driver import engaged_mission, FRAME_S, enter, move_until_trigger
 
 
 
@@ -247,16 +247,7 @@ def test_close_objects_at_the_timeout_take_a_bounded_second_look_then_decide_aga
     fired = _feed(m, [_close_pair()] * 5 + [None])
     assert fired[-1] == "second_look" and m.state == "second_look" and m.bb.second_looks == 1
     assert any(isinstance(o, StatusText) and "second look" in o.text for o in m.bb.outbox)
-    cmds = []
-    t0 = m.bb.now_s
-    for k in range(1, 200):
-        m.bb.now_s = t0 + 0.02 * k
-        m.bb.observation = Observation(m.bb.now_s, k, result=_close_pair()) if k % 10 == 0 else None
-        trig = m.tick()
-        m.bb.observation = None
-        cmds.append(m.bb.command)
-        if trig:
-            break
+    trig, cmds = move_until_trigger(m, _close_pair(), 200)
     assert trig == "looked" and m.state == "select_target" and m.bb.fusion.frames == []
     moving = [c for c in cmds if c is not None]
     travelled = sum(abs(c.sway_m_s) + abs(c.heave_m_s) for c in moving) * 0.02
