@@ -17,7 +17,7 @@ model that places its landmarks off the joints' centres (``ArmKeypoints.keypoint
 arm seen foreshortened says little about its tilt, and the fit must not pretend otherwise. The fit's
 cost becomes a posterior over objects: confidence = posterior of the best, ambiguity margin =
 difference in log-likelihood between the best and the second best (``selection.evidence: laplace``,
-the Occam factor below). The default evidence (``sampled``, ``evidence.py``) instead averages the
+the Occam factor below, the default). The ``sampled`` evidence (``evidence.py``) instead averages the
 pointing density at each object over draws of the arm weighted by the same priors, which keeps the
 two tilts (toward / away) a foreshortened arm's limb lengths allow, where a Gaussian blurs them.
 """
@@ -367,7 +367,7 @@ class OpenSet:
     """
 
     none_prior: float = 0.25
-    none_solid_angle_sr: float = 0.7
+    none_solid_angle_sr: float = 1.0
     gate_sigmas: float = 4.0
     gate_min_rad: float = 0.26
     none_min_probability: float = 0.5
@@ -412,7 +412,7 @@ class DefaultSelector(PointingSelector):
 
     def __init__(self, model: ArmModel = ArmModel(), group_radius_px: float = 20.0, group_radius_m: float = 0.05,
                  min_object_features: int = 3, min_confidence: float = 0.6, object_radius_m: float = 0.15,
-                 open_set: OpenSet = OpenSet(), evidence: str = "sampled", evidence_samples: int = 2048) -> None:
+                 open_set: OpenSet = OpenSet(), evidence: str = "laplace", evidence_samples: int = 2048) -> None:
         self.model, self.open_set = model, open_set
         self.evidence, self.evidence_samples = evidence, evidence_samples
         self.object_radius_m = object_radius_m

@@ -245,10 +245,9 @@ def _far_diver_scene(target: str):
 def test_a_pose_models_own_landmark_error_keeps_a_far_foreshortened_arm_from_being_sure(evidence):
     """At 5 m the arm's tilt decides between placards on one image line; with the landmarks' own 5 cm
     error (BlazePose) every frame is ambiguous and less sure than with exact keypoints (which claim
-    0.62 (laplace) / 0.79 (sampled) for the first placard), and no WRONG placard is more likely than
-    not. The Gaussian Occam factor (laplace) keeps even the pointed placard under 0.5; the sampled
-    evidence, which keeps the limb lengths' two tilts, gives the pointed p1 0.496 (0.52 when the landmark
-    error was drawn as image noise instead of widening the fit's sigmas)."""
+    0.67 (laplace) / 0.80 (sampled) for the first placard), and no WRONG placard is more likely than
+    not. The Gaussian Occam factor (laplace) keeps even the pointed placard under 0.5 (0.48); the
+    sampled evidence, which keeps the limb lengths' two tilts, gives the pointed p1 0.51."""
     import dataclasses
 
     sets = {"selection.evidence": evidence}
