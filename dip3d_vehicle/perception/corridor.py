@@ -72,11 +72,7 @@ def merge_candidates(base: Candidates, extra: Candidates, radius_px: float = 3.0
         extra = extra.subset(keep)
     if len(extra) == 0:
         return base
-    desc = (np.vstack([base.descriptors, extra.descriptors])
-            if base.descriptors.shape[1:] == extra.descriptors.shape[1:] else np.zeros((0, 0), np.float32))
-    sizes = np.r_[base.sizes_px, extra.sizes_px] if len(base.sizes_px) == len(base) else np.zeros(0)
-    return Candidates(np.vstack([base.left_px, extra.left_px]), np.vstack([base.right_px, extra.right_px]),
-                      desc, sizes)
+    return base.stacked(extra)
 
 
 class CorridorDetector:

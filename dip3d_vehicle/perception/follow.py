@@ -35,6 +35,7 @@ from concurrent.futures import Future, ThreadPoolExecutor
 import cv2
 import numpy as np
 
+from .images import grey
 from .pipeline import Perception, PerceptionResult
 from .threads import shared_pool
 from .triangulation import triangulate
@@ -217,7 +218,7 @@ class FollowingPerception:
         x1, y1 = int(min(w, np.ceil(pts[:, 0].max() + m))), int(min(h, np.ceil(pts[:, 1].max() + m)))
         if x1 - x0 < 8 or y1 - y0 < 8:
             return pts, np.zeros(len(pts), bool)
-        a, b = (_grey(img[y0:y1, x0:x1]) for img in (prev, cur))
+        a, b = (grey(img[y0:y1, x0:x1]) for img in (prev, cur))
         off = np.float32([x0, y0])
         start = np.ascontiguousarray(pts - off, np.float32).reshape(-1, 1, 2)
         new, status, _ = cv2.calcOpticalFlowPyrLK(a, b, start, None, winSize=(self.window_px, self.window_px),
@@ -269,11 +270,6 @@ def followed_subset(members: np.ndarray, points_px: np.ndarray, centre_px: np.nd
 def _flow_pool() -> ThreadPoolExecutor:
     """Return the shared pool for the right image's optical flow (1 thread)."""
     return shared_pool("follow", 1)
-
-
-def _grey(image: np.ndarray) -> np.ndarray:
-    """Return a grey crop (BGR converted; grey passed through)."""
-    return image if image.ndim == 2 else cv2.cvtColor(image, cv2.COLOR_BGR2GRAY)
 
 
 def with_following(core: Perception, params) -> "Perception | FollowingPerception":

@@ -9,7 +9,7 @@ import numpy as np
 
 from ..errors import ImageError
 
-__all__ = ["read_image", "write_image", "check_pair"]
+__all__ = ["read_image", "write_image", "check_pair", "grey"]
 
 
 def read_image(path: str | Path) -> np.ndarray:
@@ -42,3 +42,10 @@ def check_pair(left: np.ndarray, right: np.ndarray, left_name: str, right_name: 
     if left.shape[:2] != right.shape[:2]:
         raise ImageError(f"{right_name}: size {right.shape[1]}x{right.shape[0]} differs from "
                          f"{left_name} ({left.shape[1]}x{left.shape[0]})")
+
+
+def grey(image: np.ndarray, copy: bool = False) -> np.ndarray:
+    """Return a single-channel uint8 image (BGR converted; grey passed through, or copied if ``copy``)."""
+    if image.ndim == 2:
+        return np.array(image, copy=True) if copy else image
+    return cv2.cvtColor(image, cv2.COLOR_BGR2GRAY)

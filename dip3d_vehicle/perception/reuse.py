@@ -41,6 +41,7 @@ from scipy.spatial import cKDTree
 from .calibration import StereoRig
 from .candidates import SiftDetector, hand_extent_px, kept_columns
 from .corridor import CorridorDetector
+from .images import grey
 from .threads import shared_pool
 from .values import ArmKeypoints, Candidates
 
@@ -72,14 +73,9 @@ class Views:
     right: np.ndarray
 
 
-def _grey(image: np.ndarray) -> np.ndarray:
-    """Return a uint8 single-channel copy of an image (BGR or grey)."""
-    return np.array(image, copy=True) if image.ndim == 2 else cv2.cvtColor(image, cv2.COLOR_BGR2GRAY)
-
-
 def views_of(left_rect: np.ndarray, right_rect: np.ndarray) -> Views:
     """Return the grey pair of a rectified frame."""
-    return Views(_grey(left_rect), _grey(right_rect))
+    return Views(grey(left_rect, copy=True), grey(right_rect, copy=True))  # kept across frames
 
 
 def _flow(prev: np.ndarray, cur: np.ndarray, pts: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -188,15 +184,6 @@ def _finish(job: _Job) -> _Scan:
     return job.scan
 
 
-def _stack(a: Candidates, b: Candidates) -> Candidates:
-    """Return two candidate sets as one (descriptors and sizes kept where both have them)."""
-    same = a.descriptors.shape[1:] == b.descriptors.shape[1:] and len(a.descriptors) == len(a) \
-        and len(b.descriptors) == len(b)
-    desc = np.vstack([a.descriptors, b.descriptors]) if same else np.zeros((0, 0), np.float32)
-    sizes = np.r_[a.sizes_px, b.sizes_px] if len(a.sizes_px) == len(a) and len(b.sizes_px) == len(b) else np.zeros(0)
-    return Candidates(np.vstack([a.left_px, b.left_px]), np.vstack([a.right_px, b.right_px]), desc, sizes)
-
-
 @dataclass
 class _Scan:
     """A full candidate pass of one frame: main-pass and corridor matches, and where it looked."""
@@ -291,7 +278,7 @@ class CandidateReuse:
         """Follow the state's main and corridor matches from ``prev`` to ``cur``; False when too many were lost."""
         state = self._state
         n_main = len(state.main)
-        both = state.main if state.corridor is None else _stack(state.main, state.corridor)
+        both = state.main if state.corridor is None else state.main.stacked(state.corridor)
         moved, keep = follow_pairs(prev, cur, both, self.row_tolerance_px, self.max_disparity_change_px)
         # pairs in the margin next to the diver (it moves with the diver) or near the border (they
         # leave the view as the camera moves) do not tell whether the scene changed

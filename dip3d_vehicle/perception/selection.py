@@ -373,6 +373,10 @@ class OpenSet:
     none_min_probability: float = 0.5
     same_target_gap_m: float = 0.1
 
+    def log_prior(self, n_objects: int) -> float:
+        """Return each of ``n_objects`` objects' log prior odds against "nothing detected"."""
+        return math.log((1.0 - self.none_prior) / (n_objects * self.none_prior))
+
 
 def image_gate(arm: ArmKeypoints, objects: list[ObjectCandidate], points_px: list[np.ndarray], rig: StereoRig,
                arm3d: Arm3D, model: ArmModel, open_set: OpenSet, pointing_sigma_rad: float | None = None) -> np.ndarray:
@@ -431,8 +435,8 @@ class DefaultSelector(PointingSelector):
         if not objects:
             return Selection(None, (), np.zeros(0), 0.0, math.inf, self.method, True, 0.0,
                              "no object with enough matched features")
-        rows = (arm.left_px[:, 1] + arm.right_px[:, 1]) / 2.0
-        rays = _rays(np.c_[arm.left_px[:, 0], rows], rig)
+        joints_px = np.c_[arm.left_px[:, 0], (arm.left_px[:, 1] + arm.right_px[:, 1]) / 2.0]  # rows: both eyes
+        rays = _rays(joints_px, rig)
         given = arm.keypoint_sigma_m
         keypoint_sigma_m = self.model.keypoint_sigma_m if given is None else float(given)
         fit = _PointingFit(rays, arm3d.xyz_m[:, 2], arm3d.depth_sigma_m, self.model, keypoint_sigma_m)
@@ -443,7 +447,7 @@ class DefaultSelector(PointingSelector):
             log_odds = np.full(len(objects), -np.inf)
             if np.any(allowed):  # an object the image gate rules out never wins: no evidence needed
                 idx = np.flatnonzero(allowed)
-                log_odds[idx] = self._sampled_log_odds(fit, rays, arm3d, [objects[i] for i in idx],
+                log_odds[idx] = self._sampled_log_odds(fit, joints_px, arm3d, [objects[i] for i in idx],
                                                        shapes[idx], rig, len(objects))
         else:
             obj_rays = _rays(np.array([o.left_px for o in objects]), rig)
@@ -475,7 +479,7 @@ class DefaultSelector(PointingSelector):
         return Selection(best, tuple(objects), post, confidence, float(margin), self.method,
                          confidence < self.min_confidence, float(p_none))
 
-    def _sampled_log_odds(self, fit: _PointingFit, rays: np.ndarray, arm3d: Arm3D,
+    def _sampled_log_odds(self, fit: _PointingFit, joints_px: np.ndarray, arm3d: Arm3D,
                           objects: list[ObjectCandidate], shapes: np.ndarray, rig: StereoRig,
                           n_objects: int) -> np.ndarray:
         """Return each object's log odds against "nothing detected", the evidence averaged over the arm's draws.
@@ -487,16 +491,13 @@ class DefaultSelector(PointingSelector):
         a bench frame at 0.09 with 2048 draws, 0.25 with 8192).
         """
         m, o = self.model, self.open_set
-        f = rig.focal_px
-        cx, cy = rig.principal_point_px
-        joints_px = np.c_[rays[:, 0] * f + cx, rays[:, 1] * f + cy]
-        ev = arm_evidence(joints_px, arm3d.xyz_m[:, 2], arm3d.depth_sigma_m, f, (cx, cy), m.keypoint_sigma_px,
+        ev = arm_evidence(joints_px, arm3d.xyz_m[:, 2], arm3d.depth_sigma_m, rig.focal_px, rig.principal_point_px,
+                          m.keypoint_sigma_px,
                           m.forearm_m, m.upperarm_m, fit.length_sigma_m, fit.straightness_sigma_m,
                           fit.pointing_sigma_rad, m.object_extent_m,
                           [obj.xyz_m + shape for obj, shape in zip(objects, shapes)],
                           np.array([obj.depth_sigma_m for obj in objects]), self.evidence_samples)
-        prior = math.log((1.0 - o.none_prior) / (n_objects * o.none_prior))
-        return prior + math.log(o.none_solid_angle_sr) + ev.log_density
+        return o.log_prior(n_objects) + math.log(o.none_solid_angle_sr) + ev.log_density
 
     def _log_odds(self, costs: np.ndarray, arm_cost: float, objects: list[ObjectCandidate], arm: ArmKeypoints,
                   arm3d: Arm3D, pointing_sigma_rad: float | None = None) -> np.ndarray:
@@ -519,8 +520,7 @@ class DefaultSelector(PointingSelector):
         sigma2 = pointing ** 2 + (m.object_extent_m / np.maximum(dist, 0.1)) ** 2
         density = math.log(o.none_solid_angle_sr / (2.0 * math.pi)) - 0.5 * np.log((sigma2 + tilt ** 2) *
                                                                                  (sigma2 + across ** 2))
-        prior = math.log((1.0 - o.none_prior) / (len(objects) * o.none_prior))
-        return prior + density - (costs - arm_cost) / 2.0
+        return o.log_prior(len(objects)) + density - (costs - arm_cost) / 2.0
 
 
 def _touching(objects: list[ObjectCandidate], xyz_m: np.ndarray, best: int, gap_m: float) -> np.ndarray:

@@ -39,13 +39,9 @@ _BLAS_LIMITED: list = []
 
 
 def single_threaded_blas() -> None:
-    """Limit numpy's BLAS to one thread for the rest of the process (threadpoolctl; no-op without it)."""
+    """Limit numpy's BLAS to one thread for the rest of the process (threadpoolctl, once)."""
+    from threadpoolctl import threadpool_limits
+
     with _LOCK:
-        if _BLAS_LIMITED:
-            return
-        try:
-            from threadpoolctl import threadpool_limits
-        except ImportError:  # an install without it keeps BLAS's own threads (slower, same results)
-            _BLAS_LIMITED.append(None)
-            return
-        _BLAS_LIMITED.append(threadpool_limits(1, user_api="blas"))
+        if not _BLAS_LIMITED:
+            _BLAS_LIMITED.append(threadpool_limits(1, user_api="blas"))

@@ -95,6 +95,16 @@ class Candidates:
         sizes = self.sizes_px[keep] if len(self.sizes_px) == len(self) else self.sizes_px
         return Candidates(self.left_px[keep], self.right_px[keep], desc, sizes)
 
+    def stacked(self, other: "Candidates") -> "Candidates":
+        """Return these candidates followed by ``other``'s (descriptors and sizes kept where both have them)."""
+        same = (self.descriptors.shape[1:] == other.descriptors.shape[1:] and len(self.descriptors) == len(self)
+                and len(other.descriptors) == len(other))
+        desc = np.vstack([self.descriptors, other.descriptors]) if same else np.zeros((0, 0), np.float32)
+        full = len(self.sizes_px) == len(self) and len(other.sizes_px) == len(other)
+        sizes = np.r_[self.sizes_px, other.sizes_px] if full else np.zeros(0)
+        return Candidates(np.vstack([self.left_px, other.left_px]), np.vstack([self.right_px, other.right_px]),
+                          desc, sizes)
+
     @staticmethod
     def empty() -> "Candidates":
         """Return a candidate set with no rows."""
