@@ -241,6 +241,21 @@ def _params_of(runner: Any):
     return runner.core.params if hasattr(runner, "core") else runner.params
 
 
+WARMUP_FRAMES = 6
+"""Frames of the last sequence run before a profile is measured: beyond one frame (onnxruntime's and
+OpenCV's first allocations), a followed sequence's own first uses (the candidate reuse's background
+pass and flow on frames 2-5, ``candidates.reuse_frames`` 4) would otherwise land on the measured frames."""
+
+
+def warm_up(runner: Any, pose: BenchPose, data: BenchFrames) -> None:
+    """Run the first ``WARMUP_FRAMES`` frames of the last sequence, then start afresh (not measured)."""
+    start = max(data.sequences) if data.sequences else 0
+    for frame in data.frames[start:start + WARMUP_FRAMES]:
+        pose.provide(frame.meta.get("keypoints"))
+        runner.process(frame.left, frame.right)
+    _reset(runner, pose)
+
+
 def _reset(runner: Any, pose: BenchPose) -> None:
     """Start a new frame sequence: forget tracking (and the followed object)."""
     (runner.reset if hasattr(runner, "reset") else pose.reset)()
@@ -297,10 +312,7 @@ def run_profile(profile: str, data: BenchFrames, overrides: Mapping[str, Any] | 
     """Run one profile over every frame; return its measurements (see the module doc)."""
     perception, pose = make_perception(profile, data.rig, overrides)
     if warmup and data.frames:  # first-run allocations (onnxruntime, OpenCV) are not the frame rate
-        f = data.frames[-1]
-        pose.provide(f.meta.get("keypoints"))
-        perception.process(f.left, f.right)
-        _reset(perception, pose)
+        warm_up(perception, pose, data)
         pose.counts = dict.fromkeys(pose.counts, 0)
         if hasattr(perception, "counts"):
             perception.counts = dict.fromkeys(perception.counts, 0)
@@ -434,10 +446,7 @@ def latency_run(profile: str, data: BenchFrames, camera_hz: float = 15.0, setpoi
     age of the result behind every setpoint sent.
     """
     perception, pose = make_perception(profile, data.rig)
-    f0 = data.frames[0]
-    pose.provide(f0.meta.get("keypoints"))
-    perception.process(f0.left, f0.right)  # warm-up
-    _reset(perception, pose)
+    warm_up(perception, pose, data)
 
     def process(frame: StereoFrame):
         pose.provide(frame.meta.get("keypoints"))

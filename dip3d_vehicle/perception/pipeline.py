@@ -141,8 +141,9 @@ class Perception:
         self.reuse = CandidateReuse.from_params(params)
 
     def reset(self) -> None:
-        """Start a new frame sequence: forget the pose's tracking and the followed candidates."""
+        """Start a new frame sequence: forget the pose's tracking, the last arm and the followed candidates."""
         self.pose.reset()
+        self._last_arm = None  # it predicted the next frame's feature columns: not across sequences
         if self.reuse is not None:
             self.reuse.reset()
 

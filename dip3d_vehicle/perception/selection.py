@@ -152,15 +152,23 @@ def _components(n: int, pairs: np.ndarray) -> np.ndarray:
 
 def _centres(candidates: Candidates, Q: np.ndarray, groups: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
     """Return every group's (median left px, centre triangulated at the median disparity), pixels and metres."""
-    px = np.empty((len(groups), 2))
-    disp = np.empty(len(groups))
-    all_disp = candidates.disparity_px
-    for k, g in enumerate(groups):
-        if len(g) == 1:
-            px[k], disp[k] = candidates.left_px[g[0]], all_disp[g[0]]
-        else:
-            px[k], disp[k] = np.median(candidates.left_px[g], axis=0), np.median(all_disp[g])
-    return px, (triangulate(Q, px, disp) if len(groups) else np.zeros((0, 3)))
+    if not groups:
+        return np.empty((0, 2)), np.zeros((0, 3))
+    members = np.concatenate(groups)
+    label = np.repeat(np.arange(len(groups)), [len(g) for g in groups])
+    values = np.c_[candidates.left_px[members], candidates.disparity_px[members]]
+    med = np.column_stack([_group_medians(label, values[:, c], len(groups)) for c in range(3)])
+    return med[:, :2], triangulate(Q, med[:, :2], med[:, 2])
+
+
+def _group_medians(label: np.ndarray, values: np.ndarray, count: int) -> np.ndarray:
+    """Return the median of ``values`` per group label 0..count-1 (as ``np.median``: mean of the middle two)."""
+    order = np.lexsort((values, label))
+    sizes = np.bincount(label, minlength=count)
+    start = np.r_[0, np.cumsum(sizes)[:-1]]
+    ranked = values[order]
+    low, high = ranked[start + (sizes - 1) // 2], ranked[start + sizes // 2]
+    return (low + high) / 2.0
 
 
 @dataclass(frozen=True)

@@ -149,6 +149,20 @@ def test_reset_starts_a_new_sequence():
     assert core.reuse.counts["fresh"] == 2 and core.reuse.counts["reused"] == 0
 
 
+def test_reset_forgets_the_arm_that_predicts_the_features():
+    """A new sequence's features are not prefetched in columns the previous sequence's arm predicted."""
+    params = load_params("default", (), {"pose.backend": "blazepose", "candidates.reuse_frames": 0})
+    core = Perception(_rig(), params, GivenKeypoints("right", ARM))   # overlap on; this pose gives no early arm
+    hints = []
+    core.detector.prefetch = lambda left, right, hint, *a: hints.append(hint)
+    core.process_rectified(*_render())
+    core.process_rectified(*_render())
+    assert len(hints) == 1                       # the second frame: from the first frame's arm
+    core.reset()
+    core.process_rectified(*_render())
+    assert len(hints) == 1                       # after the reset: not from the old sequence's arm
+
+
 def test_a_disparity_change_unlike_its_neighbours_is_an_outlier():
     """A rigid approach changes every disparity alike (even by 6 px); one pair that slid 4 px along its row stands out."""
     rng = np.random.default_rng(0)

@@ -108,6 +108,21 @@ def test_default_groups_features_into_objects_with_robust_centre():
     assert centres == pytest.approx([2.0, 3.0], abs=0.02)
 
 
+def test_group_medians_equal_numpy_median():
+    """The vectorised per-group median is numpy's (mean of the two middle values), ties and singletons included."""
+    from dip3d_vehicle.perception.selection import _group_medians
+    rng = np.random.default_rng(7)
+    for trial in range(300):
+        n = int(rng.integers(1, 40))
+        k = int(rng.integers(1, n + 1))
+        label = np.r_[np.arange(k), rng.integers(0, k, n - k)]
+        values = rng.normal(0, 50, n)
+        if trial % 3 == 0:
+            values = np.round(values / 10)
+        expected = [np.median(values[label == g]) for g in range(k)]
+        np.testing.assert_array_equal(_group_medians(label, values, k), expected)
+
+
 def test_default_reports_ambiguity_for_two_objects_on_the_ray():
     """Two objects both within the pointing spread: low confidence, flagged ambiguous."""
     shoulder = np.array([-0.2, 0.0, 2.0])
