@@ -84,6 +84,7 @@ class BehaviourConfig:
     fusion_max_effective_frames: float = 4.0
     fusion_arm_frames: int = 4
     fusion_min_shared_posterior: float = 0.5
+    fusion_shared_rule: str = "always"
     second_look_max_tries: int = 1
     second_look_step_m: float = 0.4
     second_look_speed_m_s: float = 0.15

@@ -18,12 +18,16 @@ A frame whose arm was fine but that found no object at all counts as ``no_object
 its sightings. Every frame's part (its log probability per hypothesis) is kept for the story and
 the log.
 
-A pose model that places its landmarks off the joints' centres (``ArmKeypoints.keypoint_sigma_m``:
-BlazePose) makes the same error in every frame of a held pose: its frames are then one look, not
-several. For such a point the winner must also hold with the frames counted as ONE (the
-posterior from the frames' mean log probabilities) at ``min_shared_posterior``: a steady lean of
-ambiguous frames (at 5 m: 0.5 for a wrong placard frame after frame, issue 14) is not made certain
-by repetition.
+The frames of one held point share errors no number of frames averages away: the diver's own
+pointing error (the arm aims a few degrees off the object, the same in every frame) and, with a pose
+model that places its landmarks off the joints' centres (``ArmKeypoints.keypoint_sigma_m``:
+BlazePose), that model's landmark error. Such frames are one look, not several: the winner must also
+hold with the frames counted as ONE (the posterior from the frames' mean log probabilities) at
+``min_shared_posterior``. ``shared_rule`` says when: "always" (the diver's pointing error is in every
+point) or "pose_model" (only frames whose arms carry ``keypoint_sigma_m``). A steady lean of
+ambiguous frames (far_diver at 5 m, BlazePose: 0.5 for a wrong placard frame after frame, issue 14;
+far_diver seed 8, truth pose, sampled evidence: a wrong placard 4.7 deg from the arm against the
+pointed one's 5.0, issue 11) is not made certain by repetition.
 
 Pure data and arithmetic: no clock, no link.
 """
@@ -41,10 +45,13 @@ from dip3d_vehicle.perception.values import Candidates, ObjectCandidate
 
 from .evidence import Vote
 
-__all__ = ["NONE", "Hypothesis", "FrameEvidence", "FusedDecision", "PointFusion", "frame_probabilities"]
+__all__ = ["NONE", "SHARED_RULES", "Hypothesis", "FrameEvidence", "FusedDecision", "PointFusion", "frame_probabilities"]
 
 NONE = "none"
 """The name of the "nothing detected along the arm" hypothesis."""
+
+SHARED_RULES = ("always", "pose_model")
+"""When the "counted as one" check applies: every point, or only frames with a pose model's own error."""
 
 
 @dataclass
@@ -143,8 +150,13 @@ class PointFusion:
         floor_p: the smallest probability a frame gives any hypothesis (also for unseen objects).
         no_objects_none_p: "none" probability of a frame that found no object at all.
         max_effective_frames: the most independent frames the whole point may count as.
-        min_shared_posterior: a point whose frames share the pose model's error (``shared_error``)
-            needs this posterior with its frames counted as one.
+        min_shared_posterior: a point whose frames share one error (``shared_error``) needs this
+            posterior with its frames counted as one.
+        shared_rule: "always" (every point: the diver's pointing error) or "pose_model" (only frames
+            whose arms carry ``keypoint_sigma_m``).
+
+    Raises:
+        ValueError: an unknown ``shared_rule``.
     """
 
     radius_m: float
@@ -153,7 +165,9 @@ class PointFusion:
     no_objects_none_p: float = 0.8
     max_effective_frames: float = 4.0
     min_shared_posterior: float = 0.5
+    shared_rule: str = "always"
     shared_error: bool = False
+    pose_error: bool = False
     direction: np.ndarray | None = None
     hypotheses: list[Hypothesis] = field(default_factory=list)
     none_log_sum: float = 0.0
@@ -161,11 +175,15 @@ class PointFusion:
     frames: list[FrameEvidence] = field(default_factory=list)
     held_arm: HeldArm = field(default_factory=lambda: HeldArm(1))
 
+    def __post_init__(self) -> None:
+        if self.shared_rule not in SHARED_RULES:
+            raise ValueError(f"PointFusion shared_rule {self.shared_rule!r}: expected one of {', '.join(SHARED_RULES)}")
+
     def reset(self) -> None:
         """Forget every frame (a new point, or a new viewpoint)."""
         self.hypotheses, self.none_log_sum, self.none_led, self.frames = [], 0.0, 0, []
         self.direction = None
-        self.shared_error = False
+        self.shared_error = self.pose_error = False
         self.held_arm.clear()
 
     @property
@@ -196,6 +214,8 @@ class PointFusion:
         if probs is None:
             return None
         if result.arm is not None and result.arm.keypoint_sigma_m:
+            self.shared_error = self.pose_error = True
+        if self.shared_rule == "always":
             self.shared_error = True
         objects, p_none = probs
         floor = self._log(0.0)
@@ -265,8 +285,9 @@ class PointFusion:
         if self.shared_error and best != NONE:
             shared = self.posterior(1.0 / n)[best]
             if shared < self.min_shared_posterior:
+                cause = "the pose model's and the diver's pointing error" if self.pose_error else "the diver's pointing error"
                 why = (f"{best} {shared:.2f} < {self.min_shared_posterior:g} with the {n} frames counted as one "
-                       f"(they share the pose model's error)")
+                       f"(they share {cause})")
                 return FusedDecision("undecided", None, post, best, second, n, why)
         if best == NONE:
             return FusedDecision("none", None, post, best, second, n, f"nothing detected: fused {post[best]:.2f}")

@@ -4,6 +4,7 @@
                                           (every campaign: [--ray auto|local[:N]|ADDRESS], sitl/parallel.py)
     python -m sitl.point_campaign stop    [--scenario paper_pool] [--trials 20] [--jobs 1] [--json FILE]
     python -m sitl.point_campaign mission --scenario FILE [--seeds 0-9] [--jobs 1] [--json FILE]
+    (every campaign: [--set KEY=VALUE ...] parameter overrides, e.g. --set selection.evidence=sampled)
 
 ``nothing``: per seed, counted on the AUTOPILOT's side: translation commands received (MANUAL_CONTROL
 with x, y or z off neutral: any motion toward anything), the vehicle's largest distance from its start
@@ -194,6 +195,15 @@ def _seeds(text: str) -> list[int]:
     return [int(s) for s in text.split(",")]
 
 
+def _overrides(items: list[str]) -> dict:
+    """Return ``--set KEY=VALUE`` items as typed overrides; raise ParamsError on an unknown key or bad value."""
+    from dip3d_vehicle.config import load_params, parse_set
+
+    keys = parse_set(items)
+    params = load_params(overrides=keys)
+    return {k: params[k] for k in keys}
+
+
 def _map(fn, items: list, jobs: int, ray: str | None = None):
     """Yield ``fn`` of every item, in order: here, in ``jobs`` processes or on Ray (sitl/parallel.py)."""
     from .parallel import map_runs
@@ -214,14 +224,17 @@ def main(argv: list[str] | None = None) -> int:
                     help="stop: draw trials until N had the gesture in view (at most 3 x N; runs here, one by one)")
     add_executor_arguments(ap)
     ap.add_argument("--json", metavar="FILE")
+    ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
+                    help="override a parameter for every run (repeatable; validated against the schema)")
     a = ap.parse_args(argv)
+    sets = _overrides(a.set)
     if a.which == "stop" and a.visible:
-        fn, items = stop_trial, _until_visible(a.scenario or "paper_pool", a.visible)
+        fn, items = stop_trial, _until_visible(a.scenario or "paper_pool", a.visible, sets)
     elif a.which == "stop":
-        fn, items = stop_trial, [(a.scenario or "paper_pool", k, {}) for k in range(a.trials)]
+        fn, items = stop_trial, [(a.scenario or "paper_pool", k, sets) for k in range(a.trials)]
     else:
         fn = nothing_trial if a.which == "nothing" else mission_trial
-        items = [(a.scenario or "nothing_there", s, {}) for s in _seeds(a.seeds)]
+        items = [(a.scenario or "nothing_there", s, sets) for s in _seeds(a.seeds)]
     rows = []
     runs = (fn(item) for item in items) if isinstance(items, _until_visible) else _map(fn, items, a.jobs, a.ray)
     for row in runs:
@@ -240,12 +253,13 @@ def main(argv: list[str] | None = None) -> int:
 class _until_visible:
     """Trial arguments for ``stop_trial`` until ``wanted`` trials saw the gesture (the caller reports each row)."""
 
-    def __init__(self, scenario: str, wanted: int) -> None:
+    def __init__(self, scenario: str, wanted: int, overrides: dict | None = None) -> None:
         self.scenario, self.wanted, self.seen, self.k = scenario, wanted, 0, 0
+        self.overrides = overrides or {}
 
     def __iter__(self):
         while self.seen < self.wanted and self.k < 3 * self.wanted:
-            yield (self.scenario, self.k, {})
+            yield (self.scenario, self.k, self.overrides)
             self.k += 1
 
     def count(self, row: dict) -> None:

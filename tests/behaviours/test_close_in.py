@@ -212,7 +212,7 @@ def test_closing_in_without_a_plan_does_not_move(rig):
 # ----------------------------------------------------------------------------- frames sharing the pose's error
 def test_a_steady_lean_of_a_pose_with_its_own_error_is_not_made_certain_by_repetition():
     lean = dict(scores=(0.47, 0.22, 0.16), none_p=0.15)  # far_diver seed 5 at 4.5 m: a wrong placard, frame after frame
-    shared, independent = PointFusion(0.3), PointFusion(0.3)
+    shared, independent = PointFusion(0.3, shared_rule="pose_model"), PointFusion(0.3, shared_rule="pose_model")
     for _ in range(20):
         shared.add(_frame(keypoint_sigma_m=0.05, **lean), 0.0)
         independent.add(_frame(**lean), 0.0)

@@ -116,6 +116,47 @@ def test_objects_are_matched_by_position_and_their_geometry_is_averaged():
     assert np.allclose(f.hypotheses[0].xyz_m, [1.05, 0, 3.0]) and f.hypotheses[0].led == 2
 
 
+def test_a_steady_lean_of_truth_pose_frames_is_not_made_certain_the_pointing_error_is_shared():
+    """Issue 11: the diver's own pointing error is the same in every frame of a held point, so a steady
+    ambiguous lean (far_diver seed 8: a wrong placard 4.7 deg from the arm, the pointed one 5.0 deg) must
+    also hold with the frames counted as one, without any pose model's error (``keypoint_sigma_m``)."""
+    lean = ({1.0: 0.47, 2.0: 0.22, 3.0: 0.16}, 0.15)
+    always, pose_model = PointFusion(0.3), PointFusion(0.3, shared_rule="pose_model")
+    for _ in range(30):
+        assert always.add(_frame(*lean), 0.0) is not None and pose_model.add(_frame(*lean), 0.0) is not None
+    assert _frame(*lean).arm.keypoint_sigma_m is None
+    assert pose_model.decide(0.9, 3).kind == "object"  # the frames counted as independent looks: certain
+    d = always.decide(0.9, 3)
+    assert d.posterior[d.best] >= 0.9 and always.shared_error and not always.pose_error
+    assert d.kind == "undecided" and "counted as one" in d.reason and "the diver's pointing error" in d.reason
+    assert always.posterior(1.0 / 30)[d.best] < always.min_shared_posterior
+
+
+def test_a_clear_point_of_truth_pose_frames_still_wins_with_the_shared_rule():
+    f = PointFusion(0.3)
+    for _ in range(6):
+        f.add(_frame({1.0: 0.75, 2.0: 0.1}, 0.15), 0.0)
+    d = f.decide(0.9, 3)
+    assert d.kind == "object" and np.allclose(d.winner.xyz_m, [1.0, 0.0, 3.0])
+    assert f.posterior(1.0 / 6)[d.best] >= f.min_shared_posterior
+    with pytest.raises(ValueError, match="shared_rule 'sometimes'"):
+        PointFusion(0.3, shared_rule="sometimes")
+
+
+def test_the_mission_does_not_drive_on_a_steady_lean_but_does_on_a_clear_point(rig):
+    m = engaged_mission(rig, **{"behaviour.vote_frames": 4, "behaviour.min_votes": 3,
+                                "behaviour.second_look_max_tries": 0, "behaviour.close_in_max_tries": 0})
+    assert m.bb.config.fusion_shared_rule == "always"  # the default
+    enter(m, "select_target")
+    fired = _feed(m, [_frame({1.0: 0.47, 2.0: 0.22, 3.0: 0.16}, 0.15)] * 40)  # 8 s: past the select timeout
+    assert "winner" not in fired and "ambiguous" in fired and m.bb.chosen is None
+    assert any("counted as one" in line for line in m.bb.story)
+    m = engaged_mission(rig, **{"behaviour.vote_frames": 4, "behaviour.min_votes": 3})
+    enter(m, "select_target")
+    fired = _feed(m, [_frame({1.0: 0.75, 2.0: 0.1}, 0.15)] * 6)
+    assert "winner" in fired and np.allclose(m.bb.chosen.xyz_m, [1.0, 0.0, 3.0])
+
+
 # ----------------------------------------------------------------------------- nothing there
 def test_select_target_goes_to_nothing_there_which_shakes_tells_and_waits(rig):
     m = engaged_mission(rig, **{"behaviour.vote_frames": 4, "behaviour.min_votes": 3, "behaviour.release_frames": 3})
