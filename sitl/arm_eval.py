@@ -250,7 +250,9 @@ def main(argv: Sequence[str] | None = None) -> None:
     offset = [float(v) for v in args.pose_offset.split(",")]
     if len(offset) != 4:
         ap.error(f"--pose-offset: {args.pose_offset!r} is not four comma-separated numbers (north, east, down m, yaw deg)")
-    sets = dict(s.split("=", 1) for s in args.set)
+    from .campaign import _sets
+
+    sets = _sets(args.set)
     sets.setdefault("sitl.pose_source", "blazepose")
     base = load_params(overrides=sets)
     rows: list[dict] = []

@@ -199,16 +199,17 @@ def _positions(scenario: str, text: str | None) -> tuple[str, ...]:
 
 
 def _sets(items: list[str]) -> dict:
-    """Return ``KEY=VALUE`` overrides as a dict (values parsed as YAML scalars)."""
-    import yaml
+    """Return ``KEY=VALUE`` overrides as typed values, checked against the parameter schema.
 
-    out = {}
+    A malformed item exits with a message naming it; an unknown key or a bad value raises ParamsError.
+    """
+    from dip3d_vehicle.config import load_params
+
     for item in items:
-        key, sep, value = item.partition("=")
-        if not sep:
+        if "=" not in item:
             raise SystemExit(f"--set {item!r}: expected KEY=VALUE")
-        out[key.strip()] = yaml.safe_load(value)
-    return out
+    params = load_params(overrides=items)
+    return {key: params[key] for key in (item.partition("=")[0].strip() for item in items)}
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -195,15 +195,6 @@ def _seeds(text: str) -> list[int]:
     return [int(s) for s in text.split(",")]
 
 
-def _overrides(items: list[str]) -> dict:
-    """Return ``--set KEY=VALUE`` items as typed overrides; raise ParamsError on an unknown key or bad value."""
-    from dip3d_vehicle.config import load_params, parse_set
-
-    keys = parse_set(items)
-    params = load_params(overrides=keys)
-    return {k: params[k] for k in keys}
-
-
 def _map(fn, items: list, jobs: int, ray: str | None = None):
     """Yield ``fn`` of every item, in order: here, in ``jobs`` processes or on Ray (sitl/parallel.py)."""
     from .parallel import map_runs
@@ -227,7 +218,9 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
                     help="override a parameter for every run (repeatable; validated against the schema)")
     a = ap.parse_args(argv)
-    sets = _overrides(a.set)
+    from .campaign import _sets
+
+    sets = _sets(a.set)
     if a.which == "stop" and a.visible:
         fn, items = stop_trial, _until_visible(a.scenario or "paper_pool", a.visible, sets)
     elif a.which == "stop":
