@@ -230,7 +230,7 @@ def make_perception(profile: str, rig: StereoRig, overrides: Mapping[str, Any] |
     follow = follow[:-2] if background else follow
     params = profile_params(base, overrides)
     pose = BenchPose(make_pose_estimator(params), params["pose.arm"], params["pose.min_confidence"])
-    core = Perception(rig, params, pose)
+    core = Perception(rig, params, pose, live=True)
     from .perception.follow import FollowingPerception, with_following
     if sep:
         return FollowingPerception(core, keyframe_interval=int(follow or 5), background=background), pose

@@ -372,7 +372,7 @@ class Simulation:
         self.rig = scenario.rig(params["calib.alpha"])
         self.renderer = StereoRenderer(scenario, params)
         self.pose = SimPose(params)
-        self.perception = Perception(self.rig, params, self.pose)
+        self.perception = Perception(self.rig, params, self.pose, live=True)
         self.processor = FrameProcessor(self.perception, lambda f: self.pose.provide(f.meta["keypoints"]))
         self.mission = build_mission(params, self.rig, scenario.camera.image_size, perception=self.perception)
         self.controller = Controller(self.link, self.mission, self.clock)

@@ -71,7 +71,7 @@ def run(args: argparse.Namespace) -> int:
     rig = load_rig(calib, image_size=size, alpha=params["calib.alpha"],
                    already_rectified=params["calib.already_rectified"])
     pose = make_pose_estimator(params)
-    perception = Perception(rig, params, pose)
+    perception = Perception(rig, params, pose, live=True)
 
     def before(frame) -> None:
         if hasattr(pose, "provide") and "keypoints" in frame.meta:

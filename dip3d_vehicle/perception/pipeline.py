@@ -121,7 +121,11 @@ class Perception:
     """The perception core for one rig and one parameter set."""
 
     def __init__(self, rig: StereoRig, params: Mapping, pose: PoseEstimator,
-                 detector: CandidateDetector | None = None, selector: PointingSelector | None = None) -> None:
+                 detector: CandidateDetector | None = None, selector: PointingSelector | None = None,
+                 live: bool = False) -> None:
+        """``live``: the frames are a camera's sequence decided as they come (run, sitl, bench), so a
+        sequence's first frame may use the quicker start pass (``candidates.reuse_start_image_scale``);
+        False (perceive, evaluate) keeps every frame computed afresh the full pass."""
         self.rig, self.params, self.pose = rig, params, pose
         single_threaded_opencv()
         single_threaded_blas()
@@ -139,6 +143,18 @@ class Perception:
         self._corridor_job: tuple[np.ndarray, np.ndarray, np.ndarray, Future] | None = None
         # A frame sequence's candidates followed between full passes (candidates.reuse_frames, reuse.py)
         self.reuse = CandidateReuse.from_params(params)
+        self.start_detector = self._start_detector(params) if live else None
+
+    def _start_detector(self, params: Mapping) -> SiftDetector | None:
+        """Return the main pass for a live sequence's first frame (at ``candidates.reuse_start_image_scale``), or None."""
+        scale = float(params.get("candidates.reuse_start_image_scale", 0.0))
+        if self.reuse is None or scale <= 0.0 or not isinstance(self.detector, SiftDetector):
+            return None
+        if scale == self.detector.image_scale:
+            return None
+        start = SiftDetector.from_params(params)
+        start.image_scale = scale
+        return start
 
     def reset(self) -> None:
         """Start a new frame sequence: forget the pose's tracking, the last arm and the followed candidates."""
@@ -167,7 +183,9 @@ class Perception:
         following = None
         if self.reuse is not None:  # follow the kept matches into this frame while the pose runs
             following = shared_pool("reuse-follow", 1).submit(self.reuse.step, left_rect, right_rect)
-        prefetch = getattr(self.detector, "prefetch", None) if self.overlap and not likely_reused else None
+        # nothing to follow: a live sequence's first frame takes the quicker start pass (if set)
+        detector = self.start_detector if (self.start_detector is not None and not likely_reused) else self.detector
+        prefetch = getattr(detector, "prefetch", None) if self.overlap and not likely_reused else None
         features_started = prefetch is not None and self._last_arm is not None
         if features_started:
             prefetch(left_rect, right_rect, self._last_arm)
@@ -192,7 +210,7 @@ class Perception:
             reusable = following is not None and following.result()
         if early.status != "ok":
             if prefetch is not None:
-                self.detector.cancel_prefetch()
+                detector.cancel_prefetch()
             self._take_corridor(left_rect, right_rect, None)
             return PerceptionResult(early.status, early.reason, early.arm, early.arm3d, timings_ms=tm)
         if reusable:
@@ -200,15 +218,15 @@ class Perception:
             if cands is not None:
                 return dataclasses.replace(self._decided(early, cands, tm), candidates_followed=True)
         with clock("candidates"):
-            cands = self.detector.detect(left_rect, right_rect, arm, self.rig)
-        split = getattr(self.detector, "last_timings_ms", None) or {}
+            cands = detector.detect(left_rect, right_rect, arm, self.rig)
+        split = getattr(detector, "last_timings_ms", None) or {}
         if "match" in split:  # "candidates" = features (both images), "match" = matching
             tm["match"] = tm.get("match", 0.0) + split["match"]
             tm["candidates"] -= split["match"]
         with clock("corridor"):
             found = self._corridor_found(left_rect, right_rect, arm)
         if self.reuse is not None:
-            self.reuse.fresh(cands, found, arm, self.rig)
+            self.reuse.fresh(cands, found, arm, self.rig, start_pass=detector is not self.detector)
         return self._decided(early, merge_candidates(cands, found) if found is not None else cands, tm)
 
     def _reused_candidates(self, left_rect: np.ndarray, right_rect: np.ndarray, arm: ArmKeypoints,

@@ -25,7 +25,9 @@ reach beyond the scanned ones, and (the corridor alone, scanned afresh) when les
 ``candidates.reuse_min_corridor_cover`` of this frame's wedge lies in the scanned wedge.
 
 Single frames (``perceive``, the scene-family checks) never reuse anything: their results are the
-full pass's. An object that enters the view, or appears, is found by the next background pass.
+full pass's. A live sequence (``Perception(live=True)``: run, sitl, bench) may decide its first frame
+on a quicker main pass (``candidates.reuse_start_image_scale``; the corridor as always): the full pass
+then starts in the background on that frame and replaces it K frames later. An object that enters the view, or appears, is found by the next background pass.
 """
 
 from __future__ import annotations
@@ -194,6 +196,7 @@ class _Scan:
     cols: tuple[tuple[int, int], tuple[int, int]]
     wedge: np.ndarray | None
     counted: tuple[int, int]                # left columns whose pairs count for the lost fraction (not the margin)
+    corridor_views: Views | None = None     # the views the corridor's points are in, when not ``views``
 
 
 @dataclass
@@ -205,6 +208,7 @@ class _Job:
     due: int
     future: Future | None = None         # the pieces started on the current frame
     scan: _Scan | None = None
+    rescanned: bool = False              # the corridor was scanned afresh after this pass's frame: keep that one
 
 
 class CandidateReuse:
@@ -227,12 +231,12 @@ class CandidateReuse:
         self.detector.concurrent = False            # the background pass runs in one thread
         if corridor is not None:
             corridor.concurrent = False
-        self.counts = {"fresh": 0, "reused": 0, "refreshed": 0, "lost": 0, "corridor_scans": 0}
+        self.counts = {"fresh": 0, "reused": 0, "refreshed": 0, "lost": 0, "corridor_scans": 0, "start_passes": 0}
         self.last_reason = ""
         self._state: _Scan | None = None
         self._views: Views | None = None
         self._job: _Job | None = None
-        self._scanned_now = False                    # this frame was computed afresh
+        self._scanned_now = False                    # this frame was computed afresh by the full pass
 
     @classmethod
     def from_params(cls, params: Mapping) -> "CandidateReuse | None":
@@ -265,21 +269,34 @@ class CandidateReuse:
             job.due -= 1
             if job.due <= 0:
                 self._job = None
-                self._state = _finish(job)           # followed from its own frame below, in one step
+                self._state = self._taken(job)       # followed from its own frame below, in one step
             else:                                    # this frame's share runs beside the frame's own work
                 job.future = shared_pool("reuse", 1).submit(_run_pieces, job, job.per_frame)
         self._scanned_now = False
         if self._state is None:
             self.last_reason = "nothing to follow"
             return False
-        return self._follow(self._state.views, cur)
+        return self._follow(cur)
 
-    def _follow(self, prev: Views, cur: Views) -> bool:
-        """Follow the state's main and corridor matches from ``prev`` to ``cur``; False when too many were lost."""
+    def _taken(self, job: _Job) -> _Scan:
+        """Return a due pass's scan; the corridor of a later rescan (still in the state's views) replaces its own."""
+        scan = _finish(job)
+        state = self._state
+        if job.rescanned and state is not None and state.corridor is not None:
+            scan = _Scan(scan.views, scan.main, state.corridor, scan.cols, state.wedge, scan.counted, state.views)
+        return scan
+
+    def _follow(self, cur: Views) -> bool:
+        """Follow the state's main and corridor matches into ``cur``; False when too many were lost."""
         state = self._state
         n_main = len(state.main)
         both = state.main if state.corridor is None else state.main.stacked(state.corridor)
-        moved, keep = follow_pairs(prev, cur, both, self.row_tolerance_px, self.max_disparity_change_px)
+        if state.corridor is None or state.corridor_views is None:
+            moved, keep = follow_pairs(state.views, cur, both, self.row_tolerance_px, self.max_disparity_change_px)
+        else:                                        # main and corridor found on different frames
+            pairs = [follow_pairs(prev, cur, cands, self.row_tolerance_px, self.max_disparity_change_px)
+                     for prev, cands in ((state.views, state.main), (state.corridor_views, state.corridor))]
+            moved, keep = pairs[0][0].stacked(pairs[1][0]), np.concatenate([pairs[0][1], pairs[1][1]])
         # pairs in the margin next to the diver (it moves with the diver) or near the border (they
         # leave the view as the camera moves) do not tell whether the scene changed
         x, y = both.left_px[:, 0], both.left_px[:, 1]
@@ -337,9 +354,16 @@ class CandidateReuse:
             h, w = self._state.views.left.shape[:2]
             self._state.corridor, self._state.wedge = found, self.corridor.wedge(arm, w, h, rig)
             self.counts["corridor_scans"] += 1
+            if self._job is not None:                # its corridor (an older arm's) is not needed now
+                self._job.rescanned = True
 
-    def fresh(self, main: Candidates, corridor: Candidates | None, arm: ArmKeypoints, rig: StereoRig) -> None:
-        """Keep a frame computed afresh (the core's own full pass) as the matches to follow."""
+    def fresh(self, main: Candidates, corridor: Candidates | None, arm: ArmKeypoints, rig: StereoRig,
+              start_pass: bool = False) -> None:
+        """Keep a frame computed afresh (the core's own full pass) as the matches to follow.
+
+        ``start_pass``: its main pass was the quicker start pass (``candidates.reuse_start_image_scale``):
+        the full pass then starts on this very frame (``schedule``) and replaces it K frames later.
+        """
         self._cancel()
         views = self._views
         if views is None:
@@ -348,16 +372,17 @@ class CandidateReuse:
         cols = self._columns(arm, rig, w, margin_px=0.0)
         wedge = self.corridor.wedge(arm, w, h, rig) if (self.corridor is not None and corridor is not None) else None
         self._state = _Scan(views, main, corridor, cols, wedge, cols[0])
-        self._scanned_now = True
+        self._scanned_now = not start_pass
         self.counts["fresh"] += 1
+        self.counts["start_passes"] += int(start_pass)
 
     def schedule(self, arm: ArmKeypoints, rig: StereoRig) -> None:
         """After a frame is decided: start the next background pass on it unless one is in flight."""
         if self._job is not None or self._views is None or self._state is None or self._scanned_now:
             return
-        pieces = self._full_pass(self._views, arm, rig)
         frames = max(self.interval_frames - 1, 1)        # the pass is taken on the K-th frame from now
-        self._job = _Job(pieces, -(-PASS_PIECES // frames), self.interval_frames)
+        self._job = _Job(iter(()), -(-PASS_PIECES // frames), self.interval_frames)
+        self._job.pieces = self._full_pass(self._views, arm, rig, self._job)
         self.counts["refreshed"] += 1
 
     def reset(self) -> None:
@@ -382,8 +407,12 @@ class CandidateReuse:
             out.append((int(max(0, x0 - margin_px)) if x0 > 0 else 0, int(min(width, x1 + margin_px)) if x1 < width else width))
         return out[0], out[1]
 
-    def _full_pass(self, views: Views, arm: ArmKeypoints, rig: StereoRig) -> Iterator[_Scan | None]:
-        """The full pass on one frame in ``PASS_PIECES`` pieces: left features, right features, matches + corridor."""
+    def _full_pass(self, views: Views, arm: ArmKeypoints, rig: StereoRig, job: _Job) -> Iterator[_Scan | None]:
+        """The full pass on one frame in ``PASS_PIECES`` pieces: left features, right features, matches + corridor.
+
+        The corridor is skipped when it was scanned afresh on a later frame before this piece ran
+        (``job.rescanned``: that scan is the one kept when the pass is taken).
+        """
         width = views.left.shape[1]
         cols = self._columns(arm, rig, width, COLUMN_MARGIN_PX)
         left = self.detector.features(views.left, cols[0], 0)
@@ -392,7 +421,7 @@ class CandidateReuse:
         yield None
         main = self.detector.match_features(left, right, rig)
         corridor, wedge = None, None
-        if self.corridor is not None:
+        if self.corridor is not None and not job.rescanned:
             corridor = self.corridor.detect(views.left, views.right, arm, rig)
             wedge = self.corridor.last_polygon
         yield _Scan(views, main, corridor, cols, wedge, self._columns(arm, rig, width, 0.0)[0])

@@ -101,7 +101,8 @@ def test_a_steady_scene_is_followed_and_refreshed_in_the_background():
     """Frames 1.. are followed; an object that appears is found by the background pass, not before."""
     core = _core(3)
     first = core.process_rectified(*_render())            # frame 0: fresh
-    assert core.reuse.counts == {"fresh": 1, "reused": 0, "refreshed": 0, "lost": 0, "corridor_scans": 0}
+    assert core.reuse.counts == {"fresh": 1, "reused": 0, "refreshed": 0, "lost": 0, "corridor_scans": 0,
+                                 "start_passes": 0}
     assert not first.candidates_followed
     with_d = dict(OBJECTS, d=(520, 100, 22.0, 4))
     seen = []
@@ -194,3 +195,58 @@ def test_replay_compares_a_followed_frame_on_its_status_only():
     assert changed(old, {"status": "nothing_on_ray", "target": None}, 2.0)
     fresh = dict(old, candidates_followed=False)
     assert changed(fresh, {"status": "ok", "target": {"left_px": [106.0, 100.0]}}, 2.0)
+
+
+def _live(reuse_frames: int = 3, start_scale: float = 0.35) -> Perception:
+    params = load_params("default", (), {"pose.backend": "keypoints", "candidates.reuse_frames": reuse_frames,
+                                         "candidates.reuse_start_image_scale": start_scale})
+    return Perception(_rig(), params, GivenKeypoints("right", ARM), live=True)
+
+
+def test_a_live_sequence_starts_on_the_quicker_pass():
+    """Frame 0 of a live sequence: main pass at the start scale; the full pass starts on it and is taken K frames later."""
+    frame = _render()
+    live, alone = _live(3), _core(3)
+    first, full = live.process_rectified(*frame), alone.process_rectified(*frame)
+    assert live.reuse.counts["start_passes"] == 1 and live.reuse.counts["refreshed"] == 1   # scheduled on frame 0
+    assert alone.reuse.counts["start_passes"] == 0 and alone.reuse.counts["refreshed"] == 0
+    assert 0 < len(first.candidates) < len(full.candidates)
+    later = [live.process_rectified(*frame) for _ in range(3)]   # frame 3 takes frame 0's full pass
+    assert all(r.candidates_followed for r in later)
+    assert len(first.candidates) - 2 <= len(later[1].candidates) <= len(first.candidates)   # the start pass, followed
+    assert len(full.candidates) - 2 <= len(later[2].candidates) <= len(full.candidates)     # the full pass, followed
+    live.reset()
+    live.process_rectified(*frame)
+    assert live.reuse.counts["start_passes"] == 2
+
+
+def test_the_start_pass_is_off_at_zero_and_for_single_frames():
+    """``reuse_start_image_scale`` 0, or a core that is not live (perceive, evaluate): the full pass on frame 0."""
+    frame = _render()
+    full = _core(3).process_rectified(*frame)
+    for core in (_live(3, 0.0), _core(3)):
+        assert core.start_detector is None
+        np.testing.assert_array_equal(core.process_rectified(*frame).candidates.left_px, full.candidates.left_px)
+
+
+ARM_UP = {"left": {"shoulder": [60.0, 300.0], "elbow": [110.0, 275.0], "wrist": [160.0, 250.0]},
+          "right": {"shoulder": [35.0, 300.0], "elbow": [85.0, 275.0], "wrist": [135.0, 250.0]}}
+
+
+def test_a_later_corridor_rescan_outlives_the_pass_in_flight():
+    """The arm turns while a background pass is in flight: the corridor is scanned afresh once; the pass,
+    taken later, brings its main matches but keeps that newer corridor (no second rescan)."""
+    core = _core(3)
+    frame = _render()
+    core.process_rectified(*frame)                 # frame 0: fresh
+    core.process_rectified(*frame)                 # frame 1: the pass starts (taken at frame 4)
+    core.pose.provide(ARM_UP)
+    for _ in range(5):                             # frames 2-6: rescanned on frame 2 only
+        result = core.process_rectified(*frame)
+    counts = core.reuse.counts
+    assert counts["corridor_scans"] == 1 and counts["refreshed"] >= 2 and counts["lost"] == 0
+    reference = _core(0)
+    reference.pose.provide(ARM_UP)
+    fresh = reference.process_rectified(*frame)
+    assert result.status == fresh.status
+    assert abs(len(result.candidates) - len(fresh.candidates)) <= 2
