@@ -126,6 +126,37 @@ class CorridorDetector:
         self.last_timings_ms = {"corridor": (time.perf_counter() - t0) * 1e3}
         return out
 
+    def detect_beyond(self, left_rect: np.ndarray, right_rect: np.ndarray, arm: ArmKeypoints, rig: StereoRig,
+                      scanned: np.ndarray) -> Candidates:
+        """Return the matches in the part of ``arm``'s corridor outside ``scanned`` (a wedge scanned before, left px).
+
+        For a followed sequence whose arm moved: only the new part of the wedge is looked at, at the
+        scale ``detect`` would scan the whole wedge at, each piece's box cut to that part. Features up
+        to ``BEYOND_OVERLAP_PX`` inside the old wedge may be found again (the caller keeps one of each).
+        """
+        t0 = time.perf_counter()
+        height, width = left_rect.shape[:2]
+        poly = self.wedge(arm, width, height, rig)
+        self.last_polygon = poly
+        if poly is None:
+            return Candidates.empty()
+        boxes = [b for b in (_clip_box(piece, width, height) for piece in _pieces(poly, self.tiles)) if b is not None]
+        scale = self._scale(boxes)
+        new_boxes, masks = [], []
+        for box in boxes:
+            cut = _beyond(poly, scanned, box)
+            if cut is not None:
+                new_boxes.append(cut[0])
+                masks.append(cut[1])
+        if not new_boxes:
+            return Candidates.empty()
+        sign, max_disp = rig.disparity_sign, rig.focal_px * rig.baseline_m / self.min_depth_m
+        right_boxes = self._right_boxes(new_boxes, width, max_disp, sign)
+        right_masks = [_swept_mask(m, b, rb, max_disp, sign) for m, b, rb in zip(masks, new_boxes, right_boxes)]
+        out = self._match_boxes(left_rect, right_rect, new_boxes, masks, rig, scale=scale, right_masks=right_masks)
+        self.last_timings_ms = {"corridor": (time.perf_counter() - t0) * 1e3}
+        return out
+
     def wedge(self, arm: ArmKeypoints, width: int, height: int, rig: StereoRig) -> np.ndarray | None:
         """Return the corridor's wedge for ``arm`` (``corridor_polygon``, starting beyond a neural pose's hand)."""
         start_px = max(self.start_px, hand_extent_px(arm, rig.baseline_m))
@@ -144,23 +175,35 @@ class CorridorDetector:
             return Candidates.empty()
         return self._match_boxes(left_rect, right_rect, [(x0, y0, x1, y1)], [None], rig, first=2)
 
+    def _scale(self, boxes: list) -> float:
+        """Return the scale the corridor's boxes are scanned at (``image_scale``, coarser past ``max_area_px``)."""
+        area = sum((x1 - x0) * (y1 - y0) for x0, y0, x1, y1 in boxes) * self.image_scale ** 2 * 4.0
+        return self.image_scale * min(1.0, math.sqrt(self.max_area_px / max(area, 1.0)))
+
+    @staticmethod
+    def _right_boxes(boxes: list, width: int, max_disp: float, sign: int) -> list:
+        """Return the right image's boxes: the left ones widened by the disparity range, px."""
+        return [(int(max(0, x0 - max_disp)), y0, x1, y1) if sign > 0 else (x0, y0, int(min(width, x1 + max_disp)), y1)
+                for x0, y0, x1, y1 in boxes]
+
     def _match_boxes(self, left_rect: np.ndarray, right_rect: np.ndarray, boxes: list, masks: list,
-                     rig: StereoRig, first: int = 0, poly: np.ndarray | None = None) -> Candidates:
+                     rig: StereoRig, first: int = 0, poly: np.ndarray | None = None, scale: float | None = None,
+                     right_masks: list | None = None) -> Candidates:
         """Scan left boxes (with masks) and their right boxes widened by the disparity range; match along rows.
 
         ``first``: the left image's CLAHE / SIFT pair index (the right's is the next). ``poly``: the
-        corridor's wedge (the right image is then scanned only where its matches can lie).
+        corridor's wedge (the right image is then scanned only where its matches can lie), or
+        ``right_masks`` given. ``scale``: by default from the boxes' area (``_scale``).
         """
         width = left_rect.shape[1]
         max_disp = rig.focal_px * rig.baseline_m / self.min_depth_m
         sign = rig.disparity_sign
-        area = sum((x1 - x0) * (y1 - y0) for x0, y0, x1, y1 in boxes) * self.image_scale ** 2 * 4.0
-        scale = self.image_scale * min(1.0, math.sqrt(self.max_area_px / max(area, 1.0)))
-        right_boxes = [(int(max(0, x0 - max_disp)), y0, x1, y1) if sign > 0 else (x0, y0, int(min(width, x1 + max_disp)), y1)
-                       for x0, y0, x1, y1 in boxes]
+        scale = self._scale(boxes) if scale is None else scale
+        right_boxes = self._right_boxes(boxes, width, max_disp, sign)
         # right image: only where a left corridor feature's match can lie (the wedge swept over the
         # disparity range, widened): SIFT finds the same keypoints with a mask, and describes fewer
-        right_masks = [None] * len(boxes)
+        if right_masks is None:
+            right_masks = [None] * len(boxes)
         if poly is not None:
             swept = _swept_polygon(poly, -sign * max_disp)
             right_masks = [_polygon_mask(swept, box, grow_px=_RIGHT_MASK_GROW_PX) for box in right_boxes]
@@ -235,6 +278,43 @@ def _polygon_mask(poly: np.ndarray, box: tuple[int, int, int, int], grow_px: int
     if grow_px > 0:
         mask = cv2.dilate(mask, cv2.getStructuringElement(cv2.MORPH_RECT, (2 * grow_px + 1, 2 * grow_px + 1)))
     return mask
+
+
+BEYOND_OVERLAP_PX = 6
+"""``detect_beyond`` looks this far inside the old wedge too, so that no feature on its edge is missed."""
+_BEYOND_MIN_PX = 64
+"""A piece whose new part has fewer pixels than this is not scanned."""
+
+
+def _beyond(poly: np.ndarray, scanned: np.ndarray, box: tuple[int, int, int, int]
+            ) -> tuple[tuple[int, int, int, int], np.ndarray] | None:
+    """Return (box cut to it, mask) of the part of ``poly`` outside ``scanned`` within ``box``, or None if tiny."""
+    x0, y0, x1, y1 = box
+    mask = _polygon_mask(poly, box)
+    old = _polygon_mask(scanned, box)
+    size = 2 * BEYOND_OVERLAP_PX + 1
+    old = cv2.erode(old, cv2.getStructuringElement(cv2.MORPH_RECT, (size, size)), borderValue=255)
+    mask[old > 0] = 0
+    ys, xs = np.nonzero(mask)
+    if len(xs) < _BEYOND_MIN_PX:
+        return None
+    margin = 12                                   # SIFT's border, as _clip_box
+    cx0, cy0 = max(0, int(xs.min()) - margin), max(0, int(ys.min()) - margin)
+    cx1, cy1 = min(x1 - x0, int(xs.max()) + margin + 1), min(y1 - y0, int(ys.max()) + margin + 1)
+    return (x0 + cx0, y0 + cy0, x0 + cx1, y0 + cy1), np.ascontiguousarray(mask[cy0:cy1, cx0:cx1])
+
+
+def _swept_mask(mask: np.ndarray, box: tuple[int, int, int, int], right_box: tuple[int, int, int, int],
+                max_disp_px: float, sign: int) -> np.ndarray:
+    """Return the right box's mask: where the matches of features inside the left ``mask`` can lie (widened)."""
+    canvas = np.zeros((right_box[3] - right_box[1], right_box[2] - right_box[0]), np.uint8)
+    dx = box[0] - right_box[0]
+    canvas[:, dx:dx + mask.shape[1]] = mask
+    reach = int(math.ceil(max_disp_px))
+    kernel = np.ones((1, reach + 1), np.uint8)    # sign > 0: x_right = x_left - d, d in [0, reach]
+    swept = cv2.dilate(canvas, kernel, anchor=(0 if sign > 0 else reach, 0))
+    grow = 2 * _RIGHT_MASK_GROW_PX + 1
+    return cv2.dilate(swept, cv2.getStructuringElement(cv2.MORPH_RECT, (grow, grow)))
 
 
 def _swept_polygon(poly: np.ndarray, shift_x_px: float) -> np.ndarray:

@@ -242,11 +242,9 @@ class Perception:
             return None
         with clock("corridor"):
             found = self.reuse.corridor_candidates(arm, self.rig) if self.corridor is not None else None
-            if found is None and self.corridor is not None:
-                found = self._corridor_found(left_rect, right_rect, arm)
-                self.reuse.replace_corridor(found, arm, self.rig)
-            else:
-                self._take_corridor(left_rect, right_rect, None)
+            self._take_corridor(left_rect, right_rect, None)   # (none is started on a frame likely reused)
+            if found is None and self.corridor is not None:   # the arm moved: scan where it points now
+                found = self.reuse.rescan_corridor(self.corridor, left_rect, right_rect, arm, self.rig)
         self.reuse.counts["reused"] += 1
         return merge_candidates(main, found) if found is not None else main
 

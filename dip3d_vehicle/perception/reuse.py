@@ -167,6 +167,18 @@ def polygon_cover(poly: np.ndarray, scanned: np.ndarray, width: int, height: int
     return float(max(common, 0.0) / area)
 
 
+SAME_FEATURE_PX = 1.5
+"""A corridor match found again this close to a followed one (left px) is the same feature."""
+
+
+def _not_near(new: Candidates, old_px: np.ndarray) -> Candidates:
+    """Return the ``new`` matches farther than ``SAME_FEATURE_PX`` from every point of ``old_px``."""
+    if len(new) == 0 or len(old_px) == 0:
+        return new
+    dist, _ = cKDTree(old_px).query(new.left_px, k=1)
+    return new.subset(dist > SAME_FEATURE_PX)
+
+
 PASS_PIECES = 3
 """Pieces of a full pass (``CandidateReuse._full_pass``), spread over the K - 1 frames before it is taken."""
 
@@ -347,6 +359,27 @@ class CandidateReuse:
             self.last_reason = "the arm's corridor moved"
             return None
         return state.corridor.subset(inside_polygon(state.corridor.left_px, wedge))
+
+    def rescan_corridor(self, detector: CorridorDetector, left_rect: np.ndarray, right_rect: np.ndarray,
+                        arm: ArmKeypoints, rig: StereoRig) -> Candidates:
+        """Return this frame's corridor when the arm's wedge moved: scanned only beyond the scanned wedge.
+
+        The followed matches inside the new wedge are kept; ``detector.detect_beyond`` adds those of its
+        new part (one of each pair found twice on the overlap). The new wedge is then the scanned one.
+        ``detector`` is the caller's (the background pass may be using this object's own).
+        """
+        state = self._state
+        if state is None or state.corridor is None or state.wedge is None:
+            found = detector.detect(left_rect, right_rect, arm, rig)
+        else:
+            h, w = left_rect.shape[:2]
+            wedge = detector.wedge(arm, w, h, rig)
+            new = detector.detect_beyond(left_rect, right_rect, arm, rig, state.wedge)
+            old = state.corridor if wedge is None else state.corridor.subset(inside_polygon(state.corridor.left_px, wedge))
+            extra = _not_near(new, old.left_px)
+            found = old if len(extra) == 0 else extra if len(old) == 0 else old.stacked(extra)
+        self.replace_corridor(found, arm, rig)
+        return found
 
     def replace_corridor(self, found: Candidates, arm: ArmKeypoints, rig: StereoRig) -> None:
         """Keep a corridor scanned afresh on this frame (its wedge from ``arm``) for the next frames."""

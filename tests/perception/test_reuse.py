@@ -250,3 +250,38 @@ def test_a_later_corridor_rescan_outlives_the_pass_in_flight():
     fresh = reference.process_rectified(*frame)
     assert result.status == fresh.status
     assert abs(len(result.candidates) - len(fresh.candidates)) <= 2
+
+
+def test_a_moved_corridor_is_scanned_only_beyond_the_scanned_wedge():
+    """The arm turns on a followed frame: the corridor's followed matches inside the new wedge are kept and only
+    its new part is scanned; the frame's candidates are those of a frame computed afresh (a few edge features apart)."""
+    from dip3d_vehicle.perception.corridor import BEYOND_OVERLAP_PX
+    from dip3d_vehicle.perception.reuse import inside_polygon
+    core = _core(3)
+    frame = _render()
+    core.process_rectified(*frame)
+    old_wedge = core.reuse._state.wedge
+    core.corridor.detect = lambda *a, **k: pytest.fail("the whole wedge was scanned again")
+    scanned = []
+    beyond = core.corridor.detect_beyond
+    core.corridor.detect_beyond = lambda *a, **k: scanned.append(beyond(*a, **k)) or scanned[-1]
+    core.pose.provide(ARM_UP)
+    result = core.process_rectified(*frame)
+    assert core.reuse.counts["corridor_scans"] == 1 and result.candidates_followed
+    new = scanned[0]
+    assert len(new) > 0
+    # nothing found deep inside the old wedge (it was scanned, its matches followed); the mask is applied
+    # at the scan's scale (0.5 here: 2 px cells, keypoints rounded to them)
+    deep = inside_polygon(new.left_px, old_wedge) & ~_near_edge(new.left_px, old_wedge, BEYOND_OVERLAP_PX + 6)
+    assert not deep.any()
+    reference = _core(0)
+    reference.pose.provide(ARM_UP)
+    fresh = reference.process_rectified(*frame)
+    assert result.status == fresh.status
+    assert abs(len(result.candidates) - len(fresh.candidates)) <= max(3, 0.05 * len(fresh.candidates))
+
+
+def _near_edge(points: np.ndarray, poly: np.ndarray, dist_px: float) -> np.ndarray:
+    """Return which points lie within ``dist_px`` of the polygon's boundary."""
+    contour = np.asarray(poly, np.float32).reshape(-1, 1, 2)
+    return np.array([abs(cv2.pointPolygonTest(contour, (float(x), float(y)), True)) <= dist_px for x, y in points], bool)
