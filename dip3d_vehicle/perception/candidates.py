@@ -188,9 +188,9 @@ class _Prefetch:
 
     left: np.ndarray
     right: np.ndarray
-    cols_l: tuple[int, int]
+    cols_l: tuple[int, int] | None          # None: only the right image's features started (``prefetch_right``)
     cols_r: tuple[int, int]
-    jobs: tuple[Future, Future]
+    jobs: tuple[Future | None, Future]
 
 
 class SiftDetector(CandidateDetector):
@@ -257,23 +257,43 @@ class SiftDetector(CandidateDetector):
         two arrays uses them when the real kept columns lie inside the predicted ones (features
         outside the real columns are dropped), and computes afresh otherwise.
         """
-        self.cancel_prefetch()
+        pending = self._prefetched
+        right_started = (pending is not None and pending.cols_l is None and pending.left is left_rect
+                         and pending.right is right_rect)
+        if not right_started:
+            self.cancel_prefetch()
         width = left_rect.shape[1]
         cols = []
         for side in ("left", "right"):
             x0, x1 = kept_columns(arm_hint, side, width, self.mask_side, self.mask_offset_px)
             cols.append((int(max(0, x0 - margin_px if x0 > 0 else 0)),
                          int(min(width, x1 + margin_px if x1 < width else width))))
-        jobs = (_pool().submit(self.features, left_rect, cols[0], 0),
-                _pool().submit(self.features, right_rect, cols[1], 1))
-        self._prefetched = _Prefetch(left_rect, right_rect, cols[0], cols[1], jobs)
+        left_job = _pool().submit(self.features, left_rect, cols[0], 0)
+        if right_started:
+            self._prefetched = _Prefetch(left_rect, right_rect, cols[0], pending.cols_r, (left_job, pending.jobs[1]))
+            return
+        right_job = _pool().submit(self.features, right_rect, cols[1], 1)
+        self._prefetched = _Prefetch(left_rect, right_rect, cols[0], cols[1], (left_job, right_job))
+
+    def prefetch_right(self, left_rect: np.ndarray, right_rect: np.ndarray) -> None:
+        """Start the right image's features over its whole width, before any arm is known (px).
+
+        A sequence's first frame: while the pose runs on one core, the other computes the right
+        features that any arm's kept columns will need; ``prefetch`` (from the pose's early arm) then
+        adds the left image's in its exact columns.
+        """
+        self.cancel_prefetch()
+        width = right_rect.shape[1]
+        job = _pool().submit(self.features, right_rect, (0, width), 1)
+        self._prefetched = _Prefetch(left_rect, right_rect, None, (0, width), (None, job))
 
     def cancel_prefetch(self) -> None:
         """Forget a prefetch (waits for its jobs: they hold the SIFT objects)."""
         pending, self._prefetched = self._prefetched, None
         if pending is not None:
             for job in pending.jobs:
-                job.result()
+                if job is not None:
+                    job.result()
 
     def _take_prefetch(self, left_rect: np.ndarray, right_rect: np.ndarray, cols_l: tuple[int, int],
                        cols_r: tuple[int, int]):
@@ -281,8 +301,8 @@ class SiftDetector(CandidateDetector):
         pending, self._prefetched = self._prefetched, None
         if pending is None:
             return None
-        results = [job.result() for job in pending.jobs]
-        if pending.left is not left_rect or pending.right is not right_rect:
+        results = [None if job is None else job.result() for job in pending.jobs]
+        if pending.left is not left_rect or pending.right is not right_rect or pending.cols_l is None:
             return None
         out = []
         for (x0, x1), (px0, px1), (pts, desc, sizes) in zip((cols_l, cols_r), (pending.cols_l, pending.cols_r), results):

@@ -189,6 +189,8 @@ class Perception:
         features_started = prefetch is not None and self._last_arm is not None
         if features_started:
             prefetch(left_rect, right_rect, self._last_arm)
+        elif prefetch is not None and detector is self.start_detector:
+            detector.prefetch_right(left_rect, right_rect)   # a first frame: on the core the pose leaves idle
 
         def on_early_arm(hint: ArmKeypoints) -> None:
             if prefetch is not None and not features_started:  # no previous arm: features from the left pose

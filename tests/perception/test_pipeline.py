@@ -46,3 +46,30 @@ def test_first_frame_features_start_from_the_early_arm(frame):
     reference = plain.process(f.left, f.right)
     assert plain.detector.last_counts["prefetched"] == 0
     assert reference.selection.target.left_px == pytest.approx(result.selection.target.left_px, abs=3.0)
+
+
+def test_a_live_first_frame_starts_the_right_features_before_the_pose(frame):
+    """A live sequence's first frame (start pass): the right image's features start over the whole width
+    before the pose runs, the left's from the early arm; the decision is that of the start pass run after the pose."""
+    rig, f = frame
+    params = load_params("default", (), {"pose.backend": "blazepose", "blazepose.tracking": True,
+                                         "candidates.reuse_frames": 4, "candidates.reuse_start_image_scale": 0.35})
+    pose = EarlyKeypoints("right")
+    core = Perception(rig, params, pose, live=True)
+    order = []
+    right_first, estimate = core.start_detector.prefetch_right, pose.estimate
+    core.start_detector.prefetch_right = lambda *a: order.append("right features") or right_first(*a)
+    pose.estimate = lambda *a: order.append("pose") or estimate(*a)
+    pose.provide(f.meta["keypoints"])
+    result = core.process(f.left, f.right)
+    assert order == ["right features", "pose"] and core.start_detector.last_counts["prefetched"] == 1
+    assert core.reuse.counts["start_passes"] == 1
+    after = Perception(rig, params.with_overrides({"blazepose.tracking": False}, "test"), EarlyKeypoints("right"), live=True)
+    after.pose.provide(f.meta["keypoints"])
+    reference = after.process(f.left, f.right)              # no overlap: the start pass after the pose
+    assert after.start_detector.last_counts["prefetched"] == 0
+    assert result.status == reference.status == "ok"
+    # SIFT on the whole width is not SIFT on the kept columns (the coarse octaves see a different image),
+    # so the matches differ somewhat; the decision does not
+    assert abs(len(result.candidates) - len(reference.candidates)) <= 0.2 * len(reference.candidates)
+    assert reference.selection.target.left_px == pytest.approx(result.selection.target.left_px, abs=3.0)
