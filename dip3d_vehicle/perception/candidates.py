@@ -302,8 +302,10 @@ class SiftDetector(CandidateDetector):
         if pending is None:
             return None
         results = [None if job is None else job.result() for job in pending.jobs]
-        if pending.left is not left_rect or pending.right is not right_rect or pending.cols_l is None:
+        if pending.left is not left_rect or pending.right is not right_rect:
             return None
+        if pending.cols_l is None:     # only the right image's were started (no early arm came): the left's now
+            pending.cols_l, results[0] = cols_l, self.features(left_rect, cols_l, 0)
         out = []
         for (x0, x1), (px0, px1), (pts, desc, sizes) in zip((cols_l, cols_r), (pending.cols_l, pending.cols_r), results):
             if x1 - x0 < 8:

@@ -73,3 +73,13 @@ def test_a_live_first_frame_starts_the_right_features_before_the_pose(frame):
     # so the matches differ somewhat; the decision does not
     assert abs(len(result.candidates) - len(reference.candidates)) <= 0.2 * len(reference.candidates)
     assert reference.selection.target.left_px == pytest.approx(result.selection.target.left_px, abs=3.0)
+
+
+def test_right_features_started_alone_are_used_without_an_early_arm(frame):
+    """No early arm came (a pose backend without one): the whole-width right features are still used."""
+    rig, f = frame
+    params = load_params("default", (), {"pose.backend": "blazepose", "blazepose.tracking": True,
+                                         "candidates.reuse_frames": 4, "candidates.reuse_start_image_scale": 0.35})
+    core = Perception(rig, params, GivenKeypoints("right", f.meta["keypoints"]), live=True)
+    result = core.process(f.left, f.right)
+    assert result.status == "ok" and core.start_detector.last_counts["prefetched"] == 1
