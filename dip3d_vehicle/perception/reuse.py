@@ -21,8 +21,10 @@ frames earlier. The frame is computed afresh, exactly as without reuse, when the
 follow (first frame, ``reset``), when fewer than ``candidates.reuse_min_tracked_fraction`` of the
 pairs survive a flow step (the camera or the scene moved: a new scene, a moved object; pairs near
 the image border or in the margin next to the diver do not count), when this frame's kept columns
-reach beyond the scanned ones, and (the corridor alone, scanned afresh) when less than
-``candidates.reuse_min_corridor_cover`` of this frame's wedge lies in the scanned wedge.
+reach beyond the scanned ones, and (the corridor alone) when less than
+``candidates.reuse_min_corridor_cover`` of this frame's wedge lies in the scanned wedge: then only the
+part of the new wedge outside the scanned one is scanned (``CorridorDetector.detect_beyond``), the
+followed matches inside it kept, and a background pass in flight keeps that newer corridor.
 
 Single frames (``perceive``, the scene-family checks) never reuse anything: their results are the
 full pass's. A live sequence (``Perception(live=True)``: run, sitl, bench) may decide its first frame
