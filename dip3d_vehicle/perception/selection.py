@@ -120,7 +120,7 @@ def group_objects(candidates: Candidates, xyz_m: np.ndarray, rig: StereoRig, rad
         pairs = pairs[np.abs(z[i] - z[j]) <= tol]
     labels = _components(n, pairs)
     Q = normalize_q(rig.Q, rig.disparity_sign)
-    groups = [np.nonzero(labels == k)[0] for k in range(labels.max() + 1)]
+    groups = _groups(labels)
     centres = _centres(candidates, Q, groups)[1]
     ok = np.all(np.isfinite(centres), axis=1)
     if ok.sum() > 1:
@@ -131,7 +131,7 @@ def group_objects(candidates: Candidates, xyz_m: np.ndarray, rig: StereoRig, rad
             tol = np.maximum(radius_m, 3.0 * np.hypot(*rig.depth_sigma_m(np.stack([za, zb]), MATCH_SIGMA_PX)))
             close = close[np.abs(za - zb) <= tol]
         merged = _components(len(idx), close)
-        groups = [np.concatenate([groups[idx[k]] for k in np.nonzero(merged == m)[0]]) for m in range(merged.max() + 1)]
+        groups = [np.concatenate([groups[idx[k]] for k in ks]) for ks in _groups(merged)]
     groups = [g for g in groups if len(g) >= min_features]
     out = []
     for members, px, centre in zip(groups, *_centres(candidates, Q, groups)):
@@ -140,6 +140,12 @@ def group_objects(candidates: Candidates, xyz_m: np.ndarray, rig: StereoRig, rad
         sigma = float(rig.depth_sigma_m(centre[2], max(1.25 * MATCH_SIGMA_PX / math.sqrt(len(members)), 0.1)))
         out.append(ObjectCandidate(px, centre, sigma, tuple(int(m) for m in members)))
     return out
+
+
+def _groups(labels: np.ndarray) -> list[np.ndarray]:
+    """Return the (ascending) indices of each label 0..max, as ``np.nonzero(labels == k)[0]`` for every k."""
+    order = np.argsort(labels, kind="stable")
+    return np.split(order, np.cumsum(np.bincount(labels))[:-1])
 
 
 def _components(n: int, pairs: np.ndarray) -> np.ndarray:
@@ -190,6 +196,11 @@ def _norm(v: np.ndarray) -> np.ndarray:
     return np.sqrt(np.einsum("...j,...j->...", v, v))
 
 
+def _hinge(v: np.ndarray, lo: float, hi: float) -> np.ndarray:
+    """Return how far each value lies outside [lo, hi] (0 inside)."""
+    return np.maximum(np.maximum(lo - v, 0.0), v - hi)
+
+
 def _rays(points_px: np.ndarray, rig: StereoRig) -> np.ndarray:
     """Return (N, 3) viewing rays with z = 1 through rectified left pixels."""
     f = rig.focal_px
@@ -218,22 +229,26 @@ class _PointingFit:
         arm_m = 0.5 * (sum(model.forearm_m) + sum(model.upperarm_m))
         self.pointing_sigma_rad = math.hypot(model.pointing_sigma_rad, lateral / arm_m)
 
-    def arm_terms(self, x: np.ndarray) -> tuple[np.ndarray, ...]:
+    def arm_terms(self, x: np.ndarray, joints: np.ndarray | None = None, u: np.ndarray | None = None
+                  ) -> tuple[np.ndarray, ...]:
         """Return the arm's own weighted residuals for joint depths x (B, >=3), metres.
 
         Depths against the stereo depths, a nearly straight arm, plausible limb lengths: the
         terms every hypothesis shares (an object's hypothesis adds where the arm points).
+        ``joints`` (B, 3, 3) and ``u`` (B, 3), the joints at x and the unit shoulder-to-wrist axis,
+        may be given when the caller has them (``residuals``).
         """
         m = self.model
-        joints = self.rays[None, :, :] * x[:, :3, None]
+        if joints is None:
+            joints = self.rays[None, :, :] * x[:, :3, None]
         s, e, w = joints[:, 0], joints[:, 1], joints[:, 2]
-        axis = w - s
-        u = axis / (_norm(axis)[:, None] + 1e-12)
+        if u is None:
+            axis = w - s
+            u = axis / (_norm(axis)[:, None] + 1e-12)
         fore, upper = _norm(w - e), _norm(e - s)
         bend = np.sqrt(np.maximum(upper * upper - np.einsum("bj,bj->b", e - s, u) ** 2, 0.0))  # |(e - s) x u|
-        hinge = lambda v, lo, hi: np.maximum(np.maximum(lo - v, 0.0), v - hi)  # noqa: E731
         return ((x[:, :3] - self.depth_m) / self.sigma, bend / self.straightness_sigma_m,
-                hinge(fore, *m.forearm_m) / self.length_sigma_m, hinge(upper, *m.upperarm_m) / self.length_sigma_m)
+                _hinge(fore, *m.forearm_m) / self.length_sigma_m, _hinge(upper, *m.upperarm_m) / self.length_sigma_m)
 
     def residuals(self, x: np.ndarray, obj_ray: np.ndarray, obj_depth: np.ndarray, obj_sigma: np.ndarray,
                   obj_shape: np.ndarray) -> np.ndarray:
@@ -262,9 +277,13 @@ class _PointingFit:
         low = r2.min(axis=1)
         ratio = np.sqrt(np.maximum(low - 2.0 * np.log(np.mean(np.exp(-(r2 - low[:, None]) / 2.0), axis=1)), 0.0))
         behind = np.maximum(-np.sum((obj - w) * u, axis=1), 0.0)
-        depth, bend, fore, upper = self.arm_terms(x)
-        return np.column_stack([depth, (x[:, 3] - obj_depth) / np.maximum(obj_sigma, 0.01), ratio, bend,
-                                fore, upper, behind / m.length_sigma_m])
+        depth, bend, fore, upper = self.arm_terms(x, joints, u)
+        out = np.empty((len(x), 9))
+        out[:, :3] = depth
+        out[:, 3] = (x[:, 3] - obj_depth) / np.maximum(obj_sigma, 0.01)
+        out[:, 4], out[:, 5], out[:, 6], out[:, 7] = ratio, bend, fore, upper
+        out[:, 8] = behind / m.length_sigma_m
+        return out
 
     def arm_cost(self, iterations: int = 25) -> float:
         """Return the minimum cost of the arm alone: "it points at some point nobody detected".
@@ -334,7 +353,7 @@ def _levenberg_marquardt(fun, x: np.ndarray, iterations: int) -> np.ndarray:
     stalled = np.zeros(len(x), int)
     for _ in range(iterations):
         step = 1e-5 * np.maximum(np.abs(x), 1.0)
-        shifted = np.concatenate([x + eye[k] * step[:, k:k + 1] for k in range(x.shape[1])])
+        shifted = (x[None] + eye[:, None, :] * step[None]).reshape(-1, x.shape[1])  # the P copies, stacked
         jac = np.moveaxis((fun(shifted).reshape((x.shape[1],) + r.shape) - r) / step.T[:, :, None], 0, 2)
         jtj = np.einsum("bri,brj->bij", jac, jac)
         grad = np.einsum("bri,br->bi", jac, r)
@@ -451,18 +470,17 @@ class DefaultSelector(PointingSelector):
         shapes = np.stack([object_shape(xyz_m[list(o.members)], o.xyz_m) for o in objects])
         allowed = image_gate(arm, objects, [candidates.left_px[list(o.members)] for o in objects], rig, arm3d,
                              self.model, self.open_set, fit.pointing_sigma_rad)
-        if self.evidence == "sampled":
-            log_odds = np.full(len(objects), -np.inf)
-            if np.any(allowed):  # an object the image gate rules out never wins: no evidence needed
-                idx = np.flatnonzero(allowed)
-                log_odds[idx] = self._sampled_log_odds(fit, joints_px, arm3d, [objects[i] for i in idx],
-                                                       shapes[idx], rig, len(objects))
-        else:
-            obj_rays = _rays(np.array([o.left_px for o in objects]), rig)
-            costs = fit.costs(obj_rays, np.array([o.xyz_m[2] for o in objects]),
-                              np.array([o.depth_sigma_m for o in objects]), shapes)
-            log_odds = self._log_odds(costs, fit.arm_cost(), objects, arm, arm3d, fit.pointing_sigma_rad)
-        log_odds = np.where(allowed, log_odds, -np.inf)
+        log_odds = np.full(len(objects), -np.inf)
+        if np.any(allowed):  # an object the image gate rules out never wins: no evidence needed
+            idx = np.flatnonzero(allowed)
+            kept = [objects[i] for i in idx]
+            if self.evidence == "sampled":
+                log_odds[idx] = self._sampled_log_odds(fit, joints_px, arm3d, kept, shapes[idx], rig, len(objects))
+            else:
+                costs = fit.costs(_rays(np.array([o.left_px for o in kept]), rig), np.array([o.xyz_m[2] for o in kept]),
+                                  np.array([o.depth_sigma_m for o in kept]), shapes[idx])
+                log_odds[idx] = self._log_odds(costs, fit.arm_cost(), kept, arm, arm3d, fit.pointing_sigma_rad,
+                                               len(objects))
         top = max(float(log_odds.max()), 0.0)
         weights = np.exp(log_odds - top)
         none_weight = math.exp(-top)
@@ -508,8 +526,10 @@ class DefaultSelector(PointingSelector):
         return o.log_prior(n_objects) + math.log(o.none_solid_angle_sr) + ev.log_density
 
     def _log_odds(self, costs: np.ndarray, arm_cost: float, objects: list[ObjectCandidate], arm: ArmKeypoints,
-                  arm3d: Arm3D, pointing_sigma_rad: float | None = None) -> np.ndarray:
+                  arm3d: Arm3D, pointing_sigma_rad: float | None = None, n_objects: int | None = None) -> np.ndarray:
         """Return each object's log odds against "nothing detected" (prior x likelihood ratio).
+
+        ``n_objects``: the frame's number of objects, which share the prior (default ``len(objects)``).
 
         "Nothing detected" spreads the target uniformly over ``none_solid_angle_sr``; an object
         concentrates it by the pointing model's density, widened by how well this frame's arm
@@ -528,7 +548,7 @@ class DefaultSelector(PointingSelector):
         sigma2 = pointing ** 2 + (m.object_extent_m / np.maximum(dist, 0.1)) ** 2
         density = math.log(o.none_solid_angle_sr / (2.0 * math.pi)) - 0.5 * np.log((sigma2 + tilt ** 2) *
                                                                                  (sigma2 + across ** 2))
-        return o.log_prior(len(objects)) + density - (costs - arm_cost) / 2.0
+        return o.log_prior(n_objects or len(objects)) + density - (costs - arm_cost) / 2.0
 
 
 def _touching(objects: list[ObjectCandidate], xyz_m: np.ndarray, best: int, gap_m: float) -> np.ndarray:

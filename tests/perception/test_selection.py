@@ -123,6 +123,20 @@ def test_group_medians_equal_numpy_median():
         np.testing.assert_array_equal(_group_medians(label, values, k), expected)
 
 
+def test_groups_list_each_labels_indices_in_order():
+    """The grouping by label is the per-label ``np.nonzero`` it replaced: same indices, same order."""
+    from dip3d_vehicle.perception.selection import _groups
+    rng = np.random.default_rng(11)
+    for _ in range(300):
+        n = int(rng.integers(1, 60))
+        k = int(rng.integers(1, n + 1))
+        labels = rng.permutation(np.r_[np.arange(k), rng.integers(0, k, n - k)]).astype(np.int32)
+        got = _groups(labels)
+        assert len(got) == k
+        for g in range(k):
+            np.testing.assert_array_equal(got[g], np.nonzero(labels == g)[0])
+
+
 def test_default_reports_ambiguity_for_two_objects_on_the_ray():
     """Two objects both within the pointing spread: low confidence, flagged ambiguous."""
     shoulder = np.array([-0.2, 0.0, 2.0])
