@@ -26,7 +26,8 @@ every frame: full frames' arm and tracking frames' pose.
 
 The ``transitions`` library holds the table (``queued=True``, no auto transitions, no Timeout
 extension: every timeout is checked against the loop's clock in the state's own ``tick``). Each
-state's behaviour is a small class in ``states.py`` with enter / tick / exit.
+state's behaviour is a small class with enter / tick / exit, in ``pointing_states.py``,
+``approach_states.py`` or ``holding_states.py`` (gathered in ``states.py``).
 """
 
 from __future__ import annotations

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 __all__ = ["SUB_MODES", "mode_name", "mode_number", "AutopilotState", "GcsState", "LinkStats"]
 
@@ -65,6 +65,24 @@ class AutopilotState:
         """Return True when alive and heard without a gap for at least ``settle_s``."""
         return (self.alive(now_s, timeout_s) and self.heard_since_s is not None
                 and now_s - self.heard_since_s >= settle_s)
+
+    def heard(self, now_s: float, boot_ms: int | None, timeout_s: float) -> tuple["AutopilotState", str]:
+        """Return the state after a message at ``now_s`` and why the autopilot (re)appeared ("" = it did not)."""
+        ap = self
+        gap = None if ap.last_message_s is None else now_s - ap.last_message_s
+        rebooted = False
+        if boot_ms is not None:
+            rebooted = ap.time_boot_ms is not None and boot_ms + 1000 < ap.time_boot_ms
+            ap = replace(ap, time_boot_ms=int(boot_ms))
+        restarted = gap is None or rebooted or gap > timeout_s
+        ap = replace(ap, last_message_s=now_s, heard_since_s=now_s if restarted else ap.heard_since_s)
+        if gap is None:
+            return ap, "autopilot first heard"
+        if rebooted:
+            return ap, f"autopilot rebooted (time_boot_ms went back to {boot_ms})"
+        if gap > timeout_s:
+            return ap, f"autopilot heard again after {gap:.2f} s"
+        return ap, ""
 
 
 @dataclass(frozen=True)

@@ -50,8 +50,7 @@ failsafe (3 s after the stop stream ends) and the vehicle would be disarmed.
 from __future__ import annotations
 
 import logging
-from collections import deque
-from dataclasses import dataclass, replace
+from dataclasses import replace
 from typing import Any, Mapping
 
 from pymavlink import mavutil
@@ -59,11 +58,13 @@ from pymavlink import mavutil
 from ..clock import Clock
 from ..errors import LinkError
 from ..servo.command import VelocityCommand
+from .autopilot_requests import AutopilotRequests, gcs_sysid_param
 from .connection import gcs_encoder, mavlink2, open_connection, url_kind
 from .engage import EngageInputs, decide
+from .link_config import ENGAGE_MODE_AUTO, LinkConfig
 from .setpoints import (NEUTRAL_STICKS, ZERO_GUIDED, GuidedVelocity, ManualControl,
                         StickDither, guided_from_velocity)
-from .signing import load_key
+from .signing import LinkSigning, load_key
 from .state import AutopilotState, GcsState, LinkStats, mode_name
 
 __all__ = ["LinkConfig", "VehicleLink", "MAV_CMD_USER_1", "ENGAGE_MODE_AUTO"]
@@ -72,77 +73,10 @@ log = logging.getLogger("dip3d_vehicle.link")
 
 MAV_CMD_USER_1 = 31010
 """COMMAND_LONG the operator sends to (link.system_id, link.component_id): param1 1 enable, 0 disable."""
-ENGAGE_MODE_AUTO = {"manual_control": "ALT_HOLD", "guided_velocity": "GUIDED"}
-"""The engage mode used when ``link.engage_mode`` is ``auto``."""
-_GCS_SYSID_PARAMS = ("SYSID_MYGCS", "MAV_GCS_SYSID")  # ArduSub <= 4.6, and 4.7+
 _STOP_REPEAT_ON_CLOSE = 3
 _MAX_MESSAGES_PER_POLL = 2000
-_INTERVAL_TRIES = 3
 _STEADY_S = 1.0  # engage only after the autopilot was heard without a gap for this long
 _PERCEPTION_SETTLE_S = 0.4  # first engage (per enable) only after perception was fresh without a break this long
-
-
-@dataclass(frozen=True)
-class LinkConfig:
-    """The ``link.*`` parameters (see params/schema/link.yaml), resolved."""
-
-    url: str
-    baud: int
-    output_mode: str
-    engage_mode: str
-    system_id: int
-    component_id: int
-    target_system: int
-    target_component: int
-    gcs_system_id: int
-    setpoint_rate_hz: float
-    heartbeat_rate_hz: float
-    autopilot_timeout_s: float
-    gcs_timeout_s: float
-    require_gcs: bool
-    perception_timeout_s: float
-    auto_enable: bool
-    stop_zero_s: float
-    param_retry_s: float
-    param_give_up_s: float
-    reconnect_s: float
-    signing_key_file: str
-    rates_hz: tuple[tuple[str, float], ...]
-
-    @classmethod
-    def from_params(cls, params: Mapping[str, Any]) -> "LinkConfig":
-        """Build from a Params (or any mapping of ``link.*`` keys; missing keys take the schema default).
-
-        Raises:
-            LinkError: the combination does not fit (e.g. guided_velocity with engage_mode ALT_HOLD).
-        """
-        from ..config import schema
-
-        defaults = {k: p.default for k, p in schema().items() if k.startswith("link.")}
-        get = lambda key: params[key] if key in params else defaults[key]  # noqa: E731
-        output_mode = get("link.output_mode")
-        engage_mode = get("link.engage_mode")
-        if engage_mode == "auto":
-            engage_mode = ENGAGE_MODE_AUTO[output_mode]
-        if output_mode == "guided_velocity" and engage_mode != "GUIDED":
-            raise LinkError(f"link.engage_mode = {engage_mode}: guided_velocity needs GUIDED "
-                            f"(ArduSub ignores SET_POSITION_TARGET_LOCAL_NED in other modes)")
-        if output_mode == "manual_control" and engage_mode == "GUIDED":
-            raise LinkError("link.engage_mode = GUIDED: manual_control needs ALT_HOLD or STABILIZE "
-                            "(use link.output_mode guided_velocity for GUIDED)")
-        rates = [("ATTITUDE", get("link.rate.attitude_hz")),
-                 ("GLOBAL_POSITION_INT", get("link.rate.global_position_int_hz")),
-                 ("VFR_HUD", get("link.rate.vfr_hud_hz")),
-                 ("SYS_STATUS", get("link.rate.sys_status_hz"))]
-        if output_mode == "guided_velocity":
-            rates.append(("LOCAL_POSITION_NED", get("link.rate.local_position_ned_hz")))
-        names = ("url", "baud", "system_id", "component_id", "target_system", "target_component",
-                 "gcs_system_id", "setpoint_rate_hz", "heartbeat_rate_hz", "autopilot_timeout_s",
-                 "gcs_timeout_s", "require_gcs", "perception_timeout_s", "auto_enable", "stop_zero_s",
-                 "param_retry_s", "param_give_up_s", "reconnect_s", "signing_key_file")
-        return cls(output_mode=output_mode, engage_mode=engage_mode,
-                   rates_hz=tuple((n, float(r)) for n, r in rates if r > 0),
-                   **{n: get(f"link.{n}") for n in names})
 
 
 class VehicleLink:
@@ -177,25 +111,20 @@ class VehicleLink:
         self.not_engaged_reason = "not opened"
         self._conn: Any = None
         self._gcs_mav: Any = None
-        self._key: bytes | None = None
+        self._signing = LinkSigning()
         self._enabled = False
         self._engaged = False
         self._prev_inputs: EngageInputs | None = None
         self._stop_until_s: float | None = None
         self._next_setpoint_s = 0.0
         self._next_heartbeat_s = 0.0
-        self._param_first_s: float | None = None
-        self._param_last_s: float | None = None
-        self._param_given_up = False
-        self._intervals_pending: deque[list] = deque()
+        self._requests = AutopilotRequests(c, self._send, self._event, self._warn)
         self._sent_setpoints = False
         self._tcp_dead_since: float | None = None
         self._fresh_since: float | None = None
         self._engaged_since_enable = False  # the perception settle applies until the first engagement
         self.firmware = "4.5"  # which stick tables: "4.7" once the autopilot answers MAV_GCS_SYSID
         self._dither = StickDither(self.firmware)  # speeds below the sticks' dead zones as pulses
-        self._last_unsigned_calls = 0
-        self._bad_sig_base = 0
 
     # ------------------------------------------------------------------ lifecycle
 
@@ -221,18 +150,18 @@ class VehicleLink:
         """
         c = self.config
         if c.signing_key_file:
-            self._key = load_key(c.signing_key_file)
+            self._signing.key = load_key(c.signing_key_file)
         self._conn = open_connection(c.url, c.system_id, c.component_id, c.baud)
         if url_kind(c.url) == "tcp":
             self._watch_tcp_eof(self._conn)
-        self._setup_signing(self._conn)
+        self._signing.setup(self._conn)
         now = self.clock.now()
         self._next_heartbeat_s = now + 1.0 / c.heartbeat_rate_hz
         self._next_setpoint_s = now
         self._enabled = c.auto_enable
         self.not_engaged_reason = "autopilot not heard"
         self._event(f"opened {c.url} as system {c.system_id} component {c.component_id}, output "
-                    f"{c.output_mode} in {c.engage_mode}, signing {'on' if self._key else 'off'}"
+                    f"{c.output_mode} in {c.engage_mode}, signing {'on' if self._signing.key else 'off'}"
                     + (", enabled at start (link.auto_enable)" if c.auto_enable else ""))
         if c.output_mode == "manual_control":
             self._warn(
@@ -303,7 +232,7 @@ class VehicleLink:
                 self.recorder.mavlink_received(msg)
             if self._handle(msg, now):
                 count += 1
-        self._update_signing_counts()
+        self._signing.count(self._conn, self.stats)
         return count
 
     def _handle(self, msg: Any, now: float) -> bool:
@@ -333,27 +262,16 @@ class VehicleLink:
 
     def _on_autopilot_message(self, msg: Any, kind: str, now: float) -> None:
         """Update liveness and state from a message of the configured autopilot."""
-        ap = self.autopilot
-        gap = None if ap.last_message_s is None else now - ap.last_message_s
-        rebooted = False
-        boot_ms = getattr(msg, "time_boot_ms", None)
-        if boot_ms is not None:
-            rebooted = ap.time_boot_ms is not None and boot_ms + 1000 < ap.time_boot_ms
-            ap = replace(ap, time_boot_ms=int(boot_ms))
-        restarted = gap is None or rebooted or gap > self.config.autopilot_timeout_s
-        self.autopilot = replace(ap, last_message_s=now, heard_since_s=now if restarted else ap.heard_since_s)
-        if gap is None:
-            self._on_autopilot_appeared("autopilot first heard")
-        elif rebooted:
-            self._on_autopilot_appeared(f"autopilot rebooted (time_boot_ms went back to {boot_ms})")
-        elif gap > self.config.autopilot_timeout_s:
-            self._on_autopilot_appeared(f"autopilot heard again after {gap:.2f} s")
+        self.autopilot, appeared = self.autopilot.heard(now, getattr(msg, "time_boot_ms", None),
+                                                        self.config.autopilot_timeout_s)
+        if appeared:
+            self._on_autopilot_appeared(appeared)
         if kind == "HEARTBEAT":
             self._on_autopilot_heartbeat(msg, now)
         elif kind == "PARAM_VALUE":
             self._on_param_value(msg)
         elif kind == "COMMAND_ACK" and msg.command == mavutil.mavlink.MAV_CMD_SET_MESSAGE_INTERVAL:
-            self._on_interval_ack(msg)
+            self._requests.on_interval_ack(msg)
 
     def _on_autopilot_heartbeat(self, msg: Any, now: float) -> None:
         """Take mode, armed state and status from the autopilot's HEARTBEAT."""
@@ -371,21 +289,14 @@ class VehicleLink:
         """(Re)request message intervals and SYSID_MYGCS after first contact, a gap or a reboot."""
         self.autopilot = replace(self.autopilot, boots=self.autopilot.boots + 1)
         self._event(why + ": requesting message intervals and SYSID_MYGCS")
-        now = self.clock.now()
-        self._intervals_pending.clear()
-        for name, hz in self.config.rates_hz:
-            self._intervals_pending.append([name, hz, now, 1])
-            self._send_interval(name, hz)
-        self._param_first_s = now
-        self._param_given_up = False
-        self._request_gcs_sysid(now)
+        self._requests.start(self.clock.now())
 
     def _on_param_value(self, msg: Any) -> None:
         """Take the ground station's system id from SYSID_MYGCS / MAV_GCS_SYSID."""
-        name = msg.param_id.rstrip("\x00") if isinstance(msg.param_id, str) else msg.param_id
-        if name not in _GCS_SYSID_PARAMS:
+        param = gcs_sysid_param(msg)
+        if param is None:
             return
-        value = int(round(msg.param_value))
+        name, value = param
         first = not self.gcs.sysid_from_autopilot
         if value != self.gcs.sysid or first:
             self._event(f"{name} = {value} read from the autopilot (ground station system id)")
@@ -397,20 +308,12 @@ class VehicleLink:
             self._event(f"{name} answered: ArduSub {firmware} stick tables")
             self.firmware = firmware
             self._dither = StickDither(firmware)
-        self._param_first_s = None
+        self._requests.sysid_answered()
         if value == self.config.system_id and self.config.output_mode == "manual_control":
             self._warn(f"{name} = {value} is this controller's own system id (link.system_id): MANUAL_CONTROL "
                        f"would have to come from it and ArduSub would take our HEARTBEAT for the ground "
                        f"station's, hiding a lost ground station; manual_control refuses to engage. Give the "
                        f"controller another link.system_id or use guided_velocity.")
-
-    def _on_interval_ack(self, msg: Any) -> None:
-        """Match a SET_MESSAGE_INTERVAL acknowledgement to the oldest pending request."""
-        if not self._intervals_pending:
-            return
-        name, hz, _, _ = self._intervals_pending.popleft()
-        if msg.result != mavutil.mavlink.MAV_RESULT_ACCEPTED:
-            self._event(f"SET_MESSAGE_INTERVAL {name} {hz:g} Hz refused by the autopilot (result {msg.result})")
 
     def _on_command(self, msg: Any, src: tuple[int, int]) -> None:
         """Handle a COMMAND_LONG addressed to us: MAV_CMD_USER_1 enables/disables (GCS only)."""
@@ -479,7 +382,7 @@ class VehicleLink:
         if now >= self._next_setpoint_s:
             self._send_setpoint(now, command)
             self._next_setpoint_s = _next_time(self._next_setpoint_s, 1.0 / self.config.setpoint_rate_hz, now)
-        self._retry_requests(now)
+        self._requests.retry(now, self.gcs.sysid_from_autopilot)
         return self._engaged
 
     def _inputs(self, now: float, perception_fresh: bool) -> EngageInputs:
@@ -515,7 +418,7 @@ class VehicleLink:
         if self.config.output_mode != "manual_control":
             return ""
         if not self.gcs.sysid_from_autopilot:
-            if self._param_given_up:
+            if self._requests.sysid_given_up:
                 return ("SYSID_MYGCS could not be read from the autopilot; ArduSub accepts MANUAL_CONTROL "
                         "only from that system id")
             return "SYSID_MYGCS not read yet"
@@ -618,68 +521,11 @@ class VehicleLink:
             sp.type_mask, 0.0, 0.0, 0.0, sp.vx_m_s, sp.vy_m_s, sp.vz_m_s, 0.0, 0.0, 0.0, 0.0,
             sp.yaw_rate_rad_s))
 
-    def _send_interval(self, name: str, hz: float) -> None:
-        """MAV_CMD_SET_MESSAGE_INTERVAL for message ``name`` at ``hz``."""
-        c, m = self.config, mavutil.mavlink
-        msg_id = getattr(m, f"MAVLINK_MSG_ID_{name}")
-        self._send("COMMAND_LONG", mavlink2.MAVLink_command_long_message(
-            c.target_system, c.target_component, m.MAV_CMD_SET_MESSAGE_INTERVAL, 0,
-            float(msg_id), 1e6 / hz, 0, 0, 0, 0, 0))
-
-    def _request_gcs_sysid(self, now: float) -> None:
-        """PARAM_REQUEST_READ for SYSID_MYGCS (and MAV_GCS_SYSID, its 4.7+ name)."""
-        c = self.config
-        for name in _GCS_SYSID_PARAMS:
-            self._send("PARAM_REQUEST_READ", mavlink2.MAVLink_param_request_read_message(
-                c.target_system, c.target_component, name.encode(), -1))
-        self._param_last_s = now
-
     def _send_ack(self, command: int, result: int, dest: tuple[int, int]) -> None:
         """COMMAND_ACK from our own identity to ``dest``."""
         self._send("COMMAND_ACK", mavlink2.MAVLink_command_ack_message(command, result, 0, 0, dest[0], dest[1]))
 
-    def _retry_requests(self, now: float) -> None:
-        """Re-send an unanswered SYSID_MYGCS read / SET_MESSAGE_INTERVAL; give up after a while."""
-        c = self.config
-        if self._param_first_s is not None and not self.gcs.sysid_from_autopilot:
-            if now - self._param_first_s > c.param_give_up_s and not self._param_given_up:
-                self._param_given_up = True
-                if c.output_mode == "manual_control":
-                    self._warn(f"SYSID_MYGCS could not be read from the autopilot in {c.param_give_up_s:g} s: "
-                               f"ArduSub accepts MANUAL_CONTROL only from that system id, so manual_control "
-                               f"will not engage (still asking)")
-            if self._param_last_s is not None and now - self._param_last_s >= c.param_retry_s:
-                self._request_gcs_sysid(now)
-        for item in list(self._intervals_pending):
-            name, hz, sent_s, tries = item
-            if now - sent_s >= c.param_retry_s:
-                if tries >= _INTERVAL_TRIES:
-                    self._intervals_pending.remove(item)
-                    self._event(f"SET_MESSAGE_INTERVAL {name} not acknowledged after {tries} tries")
-                else:
-                    item[2], item[3] = now, tries + 1
-                    self._send_interval(name, hz)
-
-    # ------------------------------------------------------------------ signing, tcp
-
-    def _setup_signing(self, conn: Any) -> None:
-        """Sign everything we send and drop (and count) unsigned / wrong-key messages."""
-        if self._key is None:
-            return
-
-        def reject_unsigned(_mav: Any, _msg_id: int) -> bool:
-            self._last_unsigned_calls += 1
-            return False
-
-        conn.setup_signing(self._key, sign_outgoing=True, allow_unsigned_callback=reject_unsigned)
-
-    def _update_signing_counts(self) -> None:
-        """Copy pymavlink's signing counters into stats (the callback also sees bad signatures)."""
-        if self._key is None or self._conn is None:
-            return
-        bad = self._conn.mav.signing.badsig_count
-        self.stats.rejected_bad_signature = self._bad_sig_base + bad
-        self.stats.rejected_unsigned = self._last_unsigned_calls - self.stats.rejected_bad_signature
+    # ------------------------------------------------------------------ tcp
 
     def _watch_tcp_eof(self, conn: Any) -> None:
         """Replace pymavlink's print-and-block TCP reconnect by a clock-paced one in tick()."""
@@ -701,13 +547,13 @@ class VehicleLink:
         except LinkError:
             self._tcp_dead_since = now
             return
-        self._bad_sig_base += old.mav.signing.badsig_count
+        self._signing.retire(old)
         try:
             old.close()
         except OSError:
             pass
         self._watch_tcp_eof(conn)
-        self._setup_signing(conn)
+        self._signing.setup(conn)
         self._conn, self._gcs_mav, self._tcp_dead_since = conn, None, None
         self._event(f"tcp reconnected to {c.url}")
 

@@ -1,0 +1,182 @@
+"""The approach states: acknowledge the decision, servo to the tracked target, look for it when lost,
+and settle at the stand-off (arrive). All of them run on tracking frames (``needs = "track"``).
+"""
+
+from __future__ import annotations
+
+from .acknowledge import Acknowledgement
+from .blackboard import Blackboard
+from .mission_state import MissionState, track_target
+from .tracker import TrackedTarget
+
+__all__ = ["Acknowledge", "Servo", "LostTarget", "Arrive", "within"]
+
+
+class Acknowledge(MissionState):
+    """Tell the diver the decision (nod or lights), keeping the target tracked."""
+
+    name = "acknowledge"
+    triggers = ("acked",)
+    needs = "track"
+
+    def enter(self, bb: Blackboard) -> None:
+        super().enter(bb)
+        self.ack = Acknowledgement(bb.config)
+        self.ack.start(bb.now_s)
+        self.start_xyz = None if bb.tracker.xyz_m is None else bb.tracker.xyz_m.copy()
+        bb.say(f"acknowledging with {bb.config.ack_kind}")
+
+    def tick(self, bb: Blackboard) -> str | None:
+        track_target(bb)
+        command, servos, finished = self.ack.tick(bb.now_s)
+        bb.set_command(command)
+        bb.outbox.extend(servos)
+        if finished and self.start_xyz is not None:  # the nod ends at the heading it began at
+            bb.tracker.rewind(self.start_xyz, bb.now_s)
+        return "acked" if finished else None
+
+    def exit(self, bb: Blackboard) -> None:
+        bb.set_command(None)
+
+
+def within(bb: Blackboard, factor: float) -> bool:
+    """Return True when the last servo errors are inside the arrive tolerances times ``factor``."""
+    e, c = bb.errors, bb.config
+    if e is None or e.range_m is None:
+        return False
+    return e.pixel_px <= c.arrive_tolerance_px * factor and abs(e.range_m) <= c.arrive_tolerance_m * factor
+
+
+class _Steering(MissionState):
+    """A state that servos to the tracked target: each tracking frame goes to ``missed`` (target not
+    found, the vehicle stopped) or ``seen``; gives up after ``behaviour.servo_timeout_s``."""
+
+    needs = "track"
+    timeout_text = "target not reached in"
+
+    def enter(self, bb: Blackboard) -> None:
+        super().enter(bb)
+        self.last_update_s: float | None = None
+
+    def timed_out(self, bb: Blackboard) -> bool:
+        """Return True (and warn the pilot) once the state ran longer than ``behaviour.servo_timeout_s``."""
+        limit = bb.config.servo_timeout_s
+        if self.elapsed(bb) > limit:
+            bb.say(f"{self.timeout_text} {limit:g} s", "warning", pilot=True)
+            return True
+        return False
+
+    def steer(self, bb: Blackboard, found: TrackedTarget) -> float:
+        """Command the servo toward ``found`` on this frame; return the seconds since the previous frame."""
+        stamp = bb.observation.stamp_s
+        dt = stamp - self.last_update_s if self.last_update_s is not None else 0.2
+        self.last_update_s = stamp
+        bb.set_command(bb.servo.update(tuple(found.left_px), float(found.xyz_m[2]), max(dt, 1e-3)))
+        bb.errors = bb.servo.last_errors
+        return dt
+
+    def tick(self, bb: Blackboard) -> str | None:
+        if self.timed_out(bb):
+            return "give_up"
+        new, found = track_target(bb)
+        if not new:
+            return None
+        if found is None:
+            bb.stop()
+            return self.missed(bb)
+        return self.seen(bb, found)
+
+    def missed(self, bb: Blackboard) -> str | None:
+        """A tracking frame without the target (the vehicle already stopped); return a trigger or None."""
+        return None
+
+    def seen(self, bb: Blackboard, found: TrackedTarget) -> str | None:
+        """A tracking frame with the target; steer toward it and return a trigger or None."""
+        self.steer(bb, found)
+        return None
+
+
+class Servo(_Steering):
+    """Visual servo to the tracked target; hold still through short losses."""
+
+    name = "servo"
+    triggers = ("centred", "lost", "give_up")
+
+    def enter(self, bb: Blackboard) -> None:
+        super().enter(bb)
+        bb.servo.reset()
+
+    def missed(self, bb: Blackboard) -> str | None:
+        """Hold through a short loss; ``lost`` once the target was unseen longer than ``behaviour.lost_grace_s``."""
+        last = bb.tracker.last_seen_s
+        if last is not None and bb.observation.stamp_s - last > bb.config.lost_grace_s:
+            return "lost"
+        return None
+
+    def seen(self, bb: Blackboard, found: TrackedTarget) -> str | None:
+        """Steer toward the target; ``centred`` once inside the arrive tolerances."""
+        self.steer(bb, found)
+        return "centred" if within(bb, 1.0) else None
+
+
+class LostTarget(MissionState):
+    """Target not seen for a while: hold still and look for it; give up after a timeout."""
+
+    name = "lost_target"
+    triggers = ("reacquired", "give_up")
+    needs = "track"
+
+    def enter(self, bb: Blackboard) -> None:
+        super().enter(bb)
+        bb.stop()
+        bb.say("target lost: holding and looking for it", "warning", pilot=True)
+
+    def tick(self, bb: Blackboard) -> str | None:
+        if self.elapsed(bb) > bb.config.lost_timeout_s:
+            return "give_up"
+        _, found = track_target(bb)
+        if found is not None:
+            bb.say(f"target re-acquired ({found.matches} matches)")
+            return "reacquired"
+        return None
+
+
+class Arrive(_Steering):
+    """Centred and at the stand-off: keep correcting; done once inside tolerance and settled for the hold time.
+
+    Settled: the target's range changes by less than ``behaviour.arrive_max_range_rate_m_s`` between
+    frames (in ALT_HOLD nothing brakes the vehicle horizontally: a coasting vehicle is not arrived).
+    Leaving tolerance x hysteresis goes back to servo; in between, the hold time restarts.
+    """
+
+    name = "arrive"
+    triggers = ("held", "drifted", "lost", "give_up")
+    timeout_text = "could not settle at the target in"
+
+    def enter(self, bb: Blackboard) -> None:
+        super().enter(bb)
+        self.last_range_m: float | None = None
+        self.inside_since: float | None = None
+
+    def missed(self, bb: Blackboard) -> str | None:
+        """Restart the hold time; ``lost`` once the tracker gave the target up."""
+        self.inside_since = None
+        return "lost" if bb.tracker.lost else None
+
+    def seen(self, bb: Blackboard, found: TrackedTarget) -> str | None:
+        """Keep correcting; ``drifted`` outside tolerance x hysteresis, ``held`` once settled for the hold time."""
+        c = bb.config
+        dt = self.steer(bb, found)
+        if not within(bb, c.arrive_hysteresis):
+            return "drifted"
+        stamp, rng = bb.observation.stamp_s, bb.errors.range_m
+        rate = abs(rng - self.last_range_m) / max(dt, 1e-3) if self.last_range_m is not None else float("inf")
+        self.last_range_m = rng
+        if within(bb, 1.0) and rate <= c.arrive_max_range_rate_m_s:
+            if self.inside_since is None:
+                self.inside_since = stamp
+            if stamp - self.inside_since >= c.arrive_hold_s:
+                return "held"
+        else:
+            self.inside_since = None
+        return None

@@ -1,0 +1,183 @@
+"""The holding states: no motion toward a target while they wait for something (the link to engage,
+the diver's arm to come down, the hold time, the operator's re-enable).
+
+Idle before a mission, done after arriving, abort after giving up, suspended while the link stopped
+commanding during the approach, nothing_there after a point at nothing, stopped after the diver's
+stop gesture.
+"""
+
+from __future__ import annotations
+
+from .acknowledge import Acknowledgement
+from .blackboard import Blackboard
+from .mission_state import MissionState, arm_raised, new_result, track_target
+
+__all__ = ["Idle", "Done", "Abort", "Suspended", "NothingThere", "Stopped"]
+
+
+class _ReleaseWatch(MissionState):
+    """A state that waits for the diver's arm to be down ``release_frames`` frames in a row (a new request)."""
+
+    lowered = 0
+
+    def arm_released(self, bb: Blackboard, result) -> bool:
+        """Count a frame without the raised arm (reset on one with it); True once the arm is down."""
+        self.lowered = 0 if arm_raised(bb, result) else self.lowered + 1
+        if self.lowered >= bb.config.release_frames:
+            bb.say("diver's arm down: ready for a new request")
+            return True
+        return False
+
+
+class Idle(MissionState):
+    """Disengaged (pilot in control, or not yet enabled): no motion; wait for the link to engage."""
+
+    name = "idle"
+    triggers = ("engage",)
+
+    def enter(self, bb: Blackboard) -> None:
+        super().enter(bb)
+        bb.stop()
+
+    def tick(self, bb: Blackboard) -> str | None:
+        return "engage" if bb.engaged else None
+
+
+class Done(_ReleaseWatch):
+    """Arrived: stop, hold, report; a new request needs the diver's arm down first."""
+
+    name = "done"
+    triggers = ("released",)
+
+    def enter(self, bb: Blackboard) -> None:
+        super().enter(bb)
+        bb.stop()
+        bb.arrived = True
+        bb.arrivals += 1
+        e = bb.errors
+        rng = bb.config.standoff_m + (e.range_m if e is not None and e.range_m is not None else 0.0)
+        px = e.pixel_px if e is not None else float("nan")
+        bb.say(f"arrived: range {rng:.2f} m, {px:.0f} px off", pilot=True)
+        self.lowered = 0
+
+    def tick(self, bb: Blackboard) -> str | None:
+        result = new_result(bb)
+        if result is None:
+            return None
+        return "released" if self.arm_released(bb, result) else None
+
+
+class Abort(MissionState):
+    """Give up on the target: stop, tell the pilot, hold, then wait for the diver again."""
+
+    name = "abort"
+    triggers = ("reset",)
+
+    def enter(self, bb: Blackboard) -> None:
+        super().enter(bb)
+        bb.stop()
+        bb.chosen = None
+        bb.say("aborted: holding", "warning", pilot=True)
+
+    def tick(self, bb: Blackboard) -> str | None:
+        return "reset" if self.elapsed(bb) >= bb.config.abort_hold_s else None
+
+
+class Suspended(MissionState):
+    """The link stopped commanding during the approach (autopilot or ground station lost, the pilot took
+    over): no motion, the target kept and tracked; when the link engages again, re-check and resume or
+    start again.
+
+    Entered only for disengage reasons that clear the operator's enable, so the link engages again
+    only after a new enable; this state also checks that it saw the enable cleared, and never
+    resumes otherwise. On re-engage: the target seen within ``behaviour.lost_grace_s`` and the
+    suspension no longer than ``behaviour.resume_within_s`` -> ``resume`` (servo); else ``expired``
+    (wait_for_diver). Not re-engaged within ``behaviour.resume_within_s`` -> ``disengage`` (idle,
+    the target forgotten).
+    """
+
+    name = "suspended"
+    triggers = ("resume", "expired", "disengage")
+    needs = "track"
+
+    def enter(self, bb: Blackboard) -> None:
+        super().enter(bb)
+        bb.stop()
+        self.enable_cleared = not bb.operator_enabled
+        bb.say("suspended: holding, target kept", "warning", pilot=True)
+        bb.say(f"resumes only after the operator's re-enable, within {bb.config.resume_within_s:g} s")
+
+    def tick(self, bb: Blackboard) -> str | None:
+        track_target(bb)
+        self.enable_cleared = self.enable_cleared or not bb.operator_enabled
+        away, limit = self.elapsed(bb), bb.config.resume_within_s
+        if not bb.engaged:
+            if away > limit:
+                bb.say(f"not re-enabled in {limit:g} s: target forgotten", "warning", pilot=True)
+                return "disengage"
+            return None
+        if not self.enable_cleared:
+            bb.say("re-engaged without re-enable: not resuming", "warning", pilot=True)
+            return "expired"
+        if away > limit:
+            bb.say(f"re-engaged after {away:.1f} s > {limit:g} s: target forgotten", "notice", pilot=True)
+            return "expired"
+        seen = bb.tracker.last_seen_s if bb.tracker.active else None
+        if seen is None or bb.tracker.lost or bb.now_s - seen > bb.config.lost_grace_s:
+            bb.say("target not tracked: not resuming", "notice", pilot=True)
+            ago = "never" if seen is None else f"{bb.now_s - seen:.1f} s ago"
+            bb.say(f"re-engaged after {away:.1f} s, target last seen {ago}: waiting for the diver")
+            return "expired"
+        bb.say("target tracked: resuming the servo", pilot=True)
+        bb.say(f"re-engaged after {away:.1f} s, target seen {bb.now_s - seen:.1f} s ago")
+        return "resume"
+
+
+class NothingThere(_ReleaseWatch):
+    """Nothing detected where the diver points: no motion toward anything; tell them with a shake and the
+    pilot with a STATUSTEXT, then wait for the arm to come down (a new point)."""
+
+    name = "nothing_there"
+    triggers = ("released",)
+
+    def enter(self, bb: Blackboard) -> None:
+        super().enter(bb)
+        bb.stop()
+        bb.chosen = None
+        p = bb.decision.posterior.get("none", float("nan")) if bb.decision is not None else float("nan")
+        bb.say(f"nothing detected where pointed (p {p:.2f})", "notice", pilot=True)
+        bb.say("shaking: yaw left-right-left-right, then waiting for a new point")
+        self.shake = Acknowledgement(bb.config, shake=True)
+        self.shake.start(bb.now_s)
+        self.lowered = 0
+
+    def tick(self, bb: Blackboard) -> str | None:
+        command, _, finished = self.shake.tick(bb.now_s)
+        bb.set_command(None if finished else command)
+        result = new_result(bb)
+        if not finished or result is None:
+            return None
+        return "released" if self.arm_released(bb, result) else None
+
+    def exit(self, bb: Blackboard) -> None:
+        bb.set_command(None)
+
+
+class Stopped(MissionState):
+    """The diver's stop gesture: hold (neutral, the link stays engaged and the enable kept), mission over.
+
+    Left only when the link disengages (the operator's disable; a new enable starts a new mission).
+    """
+
+    name = "stopped"
+    needs = "track"
+
+    def enter(self, bb: Blackboard) -> None:
+        super().enter(bb)
+        bb.stop()
+        bb.chosen = None
+        bb.say("stop gesture: holding, mission ended", "warning", pilot=True)
+
+    def tick(self, bb: Blackboard) -> str | None:
+        bb.set_command(None)
+        return None

@@ -1,0 +1,365 @@
+"""The pointing states: wait for the diver, confirm the point, select the target, and the two bounded
+moves (second look, close in) that let the selection decide again from a better viewpoint.
+
+The frames of confirm_point and select_target are fused into one decision over the point
+(``fusion.py``); the evidence restarts when the pointing moves or the viewpoint changes.
+"""
+
+from __future__ import annotations
+
+import math
+from collections import deque
+
+import numpy as np
+
+from dip3d_vehicle.perception.held_arm import HeldArm
+from dip3d_vehicle.servo.command import VelocityCommand
+
+from .blackboard import Blackboard
+from .close_in import CloseInStep, horizontal_range_m, plan_close_in
+from .evidence import VoteBox, angular_spread_rad, image_direction
+from .fusion import NONE, FrameEvidence, FusedDecision, PointFusion
+from .mission_state import MissionState, arm_raised, new_result
+from .second_look import LookStep, plan_second_look
+
+__all__ = ["WaitForDiver", "ConfirmPoint", "SelectTarget", "SecondLook", "CloseIn"]
+
+
+def _fuse_frame(bb: Blackboard, result, direction) -> FrameEvidence | None:
+    """Add a raised-arm frame to the point's fused evidence; restart it when the pointing moved.
+
+    The point's direction is the mean left-image arm direction of its fused frames; a frame more
+    than ``behaviour.steady_angle_rad`` away from it starts a new point.
+    """
+    c = bb.config
+    if bb.fusion is None:
+        bb.fusion = PointFusion(c.vote_radius_m, c.fusion_temper, c.fusion_floor_p, c.fusion_no_objects_none_p,
+                                c.fusion_max_effective_frames, c.fusion_min_shared_posterior,
+                                shared_rule=c.fusion_shared_rule)
+    fusion = bb.fusion
+    if direction is not None and fusion.direction is not None:
+        mean = fusion.direction / max(float(np.linalg.norm(fusion.direction)), 1e-9)
+        if angular_spread_rad([mean, direction]) * 2 > c.steady_angle_rad and fusion.frames:
+            bb.say(f"pointing moved: fused evidence of {len(fusion.frames)} frames restarted")
+            fusion.reset()
+    arm_frames = 1
+    if bb.decide_held is not None and c.fusion_arm_frames > 1 and result.arm is not None \
+            and result.status in ("ok", "nothing_on_ray"):
+        if fusion.held_arm.arms.maxlen != c.fusion_arm_frames:
+            fusion.held_arm = HeldArm(c.fusion_arm_frames)
+        fusion.held_arm.add(result.arm)
+        arm_frames = len(fusion.held_arm)
+        result = bb.decide_held(fusion.held_arm.mean(), arm_frames, result)
+    part = fusion.add(result, bb.observation.stamp_s, arm_frames)
+    if part is not None and direction is not None:
+        fusion.direction = direction.copy() if fusion.direction is None else fusion.direction + direction
+    return part
+
+
+def _tell_decision(bb: Blackboard, decision: FusedDecision) -> None:
+    """Put the fused posterior, the hypotheses and each frame's part in the story (and the log)."""
+    fusion = bb.fusion
+    bb.decision = decision
+    bb.say(f"fused posterior over {decision.frames} frames (weight {fusion.weight:.2f}): {decision.summary()}")
+    bb.say(f"hypotheses: {fusion.describe()}")
+    bb.say("frames: " + "; ".join(f.summary() for f in fusion.frames))
+
+
+class WaitForDiver(MissionState):
+    """Hold still until a raised arm is seen in N of the last M frames."""
+
+    name = "wait_for_diver"
+    triggers = ("arm_seen",)
+
+    def enter(self, bb: Blackboard) -> None:
+        super().enter(bb)
+        bb.set_command(None)
+        bb.fusion = None  # a new point starts its evidence afresh
+        bb.second_looks = 0
+        bb.close_ins = 0
+        self.history: deque[bool] = deque(maxlen=bb.config.arm_seen_m)
+
+    def tick(self, bb: Blackboard) -> str | None:
+        result = new_result(bb)
+        if result is None:
+            return None
+        self.history.append(arm_raised(bb, result))
+        if sum(self.history) >= bb.config.arm_seen_n:
+            bb.say(f"diver's arm raised in {sum(self.history)} of the last {len(self.history)} frames")
+            return "arm_seen"
+        return None
+
+
+class _ArmWatch(MissionState):
+    """A state that gives up when the diver's arm is down for ``arm_lost_frames`` frames in a row."""
+
+    misses = 0
+
+    def arm_gone(self, bb: Blackboard, raised: bool, why: str) -> bool:
+        """Count a frame without the raised arm (reset on one with it); True once the arm is gone."""
+        self.misses = 0 if raised else self.misses + 1
+        if self.misses >= bb.config.arm_lost_frames:
+            bb.say(why)
+            return True
+        return False
+
+
+class ConfirmPoint(_ArmWatch):
+    """Wait until the pointing direction (in the left image) stays within an angle for a hold time."""
+
+    name = "confirm_point"
+    triggers = ("steady", "arm_lost", "timeout")
+
+    def enter(self, bb: Blackboard) -> None:
+        super().enter(bb)
+        bb.set_command(None)
+        self.window: list[tuple[float, np.ndarray]] = []
+        self.misses = 0
+
+    def tick(self, bb: Blackboard) -> str | None:
+        c = bb.config
+        if self.elapsed(bb) > c.confirm_timeout_s:
+            bb.say(f"no steady pointing in {c.confirm_timeout_s:g} s")
+            return "timeout"
+        result = new_result(bb)
+        if result is None:
+            return None
+        if self.arm_gone(bb, arm_raised(bb, result), "diver lowered the arm or left"):
+            return "arm_lost"
+        if self.misses:
+            return None
+        direction = image_direction(result)
+        stamp = bb.observation.stamp_s
+        _fuse_frame(bb, result, direction)
+        self.window.append((stamp, direction))
+        spread = angular_spread_rad([d for _, d in self.window])
+        if spread > c.steady_angle_rad:
+            self.window = [(stamp, direction)]
+            return None
+        if stamp - self.window[0][0] >= c.steady_hold_s and len(self.window) >= 2:
+            bb.say(f"pointing steady for {stamp - self.window[0][0]:.1f} s (spread {spread:.3f} rad)")
+            return "steady"
+        return None
+
+
+class SelectTarget(_ArmWatch):
+    """Fuse the point's frames into one posterior (nothing detected included); decide when it is clear.
+
+    The evidence gathered since the point began (confirm_point's frames too) is kept across an
+    ``ambiguous`` round trip through confirm_point while the diver keeps pointing the same way.
+    A winning object -> ``winner``; "nothing detected" winning -> ``nothing_there``; no clear
+    winner within ``behaviour.select_timeout_s``: the diver farther than ``behaviour.decide_max_range_m``
+    -> ``close_in`` (while tries are left and a safe advance exists); two objects close ->
+    ``second_look`` (while tries are left and a step separates them); else ``ambiguous``.
+    """
+
+    name = "select_target"
+    triggers = ("winner", "nothing_there", "close_in", "second_look", "ambiguous", "arm_lost")
+
+    def enter(self, bb: Blackboard) -> None:
+        super().enter(bb)
+        bb.set_command(None)
+        self.box = VoteBox(bb.config.vote_radius_m)
+        self.misses = 0
+        self.added = 0
+        self.last_arm3d = None
+
+    def tick(self, bb: Blackboard) -> str | None:
+        c = bb.config
+        if self.elapsed(bb) > c.select_timeout_s:
+            return self.undecided(bb)
+        result = new_result(bb)
+        if result is None:
+            return None
+        if self.arm_gone(bb, arm_raised(bb, result), "diver lowered the arm or left while selecting"):
+            return "arm_lost"
+        if self.misses:
+            return None
+        self.box.add(result, bb.observation.stamp_s)
+        self.last_arm3d = result.arm3d if result.arm3d is not None else self.last_arm3d
+        self.added += _fuse_frame(bb, result, image_direction(result)) is not None
+        if self.added == 0 or len(bb.fusion.frames) < c.vote_frames:
+            return None
+        decision = bb.fusion.decide(c.fusion_min_posterior, c.min_votes)
+        bb.decision = decision
+        if decision.kind == "undecided":
+            return None
+        _tell_decision(bb, decision)
+        if decision.kind == "none":
+            return "nothing_there"
+        w = bb.fusion.as_vote(decision.winner)
+        bb.chosen = w
+        bb.tracker.start(w.obj, w.candidates, w.stamp_s)
+        bb.target = bb.tracker.last
+        xyz = ", ".join(f"{v:.2f}" for v in w.xyz_m)
+        bb.say(f"target chosen at ({xyz}) m, p {decision.posterior[decision.best]:.2f}", pilot=True)
+        bb.say(f"votes: {self.box.summary()}")
+        return "winner"
+
+    def undecided(self, bb: Blackboard) -> str:
+        """No clear winner in time: say why and what the evidence was."""
+        c = bb.config
+        fusion = bb.fusion
+        if fusion is None or not fusion.frames:
+            bb.say(f"no decision in {c.select_timeout_s:g} s: no usable frame", "notice", pilot=True)
+            return "ambiguous"
+        decision = fusion.decide(c.fusion_min_posterior, c.min_votes)
+        _tell_decision(bb, decision)
+        advance = self.close_in_step(bb)
+        if advance is not None:
+            bb.close_in_step = advance
+            return "close_in"
+        step = self.look_step(bb, decision)
+        if step is not None:
+            bb.look_step = step
+            return "second_look"
+        bb.say(f"ambiguous: {decision.reason}", "notice", pilot=True)
+        return "ambiguous"
+
+    def close_in_step(self, bb: Blackboard) -> CloseInStep | None:
+        """Return the advance toward a diver beyond ``behaviour.decide_max_range_m``, or None (near, no tries left, unsafe)."""
+        c, arm3d = bb.config, self.last_arm3d
+        if arm3d is None or bb.close_ins >= c.close_in_max_tries or bb.fusion is None:
+            return None
+        rng = horizontal_range_m(arm3d.xyz_m[0])
+        if rng <= c.decide_max_range_m:
+            return None
+        keep = [h.xyz_m for h in bb.fusion.hypotheses]
+        step = plan_close_in(arm3d.xyz_m[[0, 2]], np.reshape(keep, (-1, 3)), c.decide_max_range_m,
+                             c.close_in_standoff_m, c.close_in_clearance_m, bb.servo.focal_px,
+                             bb.servo.principal_point_px, c.second_look_margin_px, c.close_in_min_step_m,
+                             max_descent_m=c.close_in_max_descent_m)
+        if step is None:
+            bb.say(f"diver {rng:.1f} m away (> {c.decide_max_range_m:g} m), but no advance keeps every candidate "
+                   f"in view and clear")
+        return step
+
+    def look_step(self, bb: Blackboard, decision: FusedDecision) -> LookStep | None:
+        """Return the second look's step when two objects are close and a step separates them, else None."""
+        c, post = bb.config, decision.posterior
+        if bb.second_looks >= c.second_look_max_tries or decision.second is None or NONE in (decision.best,
+                                                                                              decision.second):
+            return None
+        if min(post[decision.best], post[decision.second]) < c.second_look_min_p:
+            return None
+        arm3d = self.last_arm3d
+        if arm3d is None:
+            return None
+        a, b = bb.fusion.hypothesis(decision.best), bb.fusion.hypothesis(decision.second)
+        step = plan_second_look(a.xyz_m, b.xyz_m, arm3d.xyz_m[[0, 2]], c.second_look_step_m, bb.servo.focal_px,
+                                bb.servo.principal_point_px, c.second_look_margin_px)
+        if step is None:
+            bb.say(f"{decision.best} and {decision.second} close, but no step keeps all in view and separates them")
+        return step
+
+
+class _MoveThenDecide(_ArmWatch):
+    """A bounded move (``command`` for ``move_s``), a settle of ``behaviour.second_look_settle_s``, then
+    ``done_trigger``: decide again from there (the fused evidence restarts: a new viewpoint).
+
+    Subclasses count the try (``take_step``) and plan the move (``start_move``); nothing planned means no
+    motion and deciding again at once.
+    The diver gone from the view (``arm_lost_frames`` frames without the raised arm) -> stop, ``arm_lost``.
+    """
+
+    done_trigger: str
+    done_text = "deciding again from here"
+    left_view_text = "diver left the view"
+
+    def enter(self, bb: Blackboard) -> None:
+        super().enter(bb)
+        self.misses = 0
+        self.move_s: float = 0.0
+        self.command: VelocityCommand | None = None
+        step = self.take_step(bb)
+        if step is not None:
+            self.start_move(bb, step)
+
+    def take_step(self, bb: Blackboard) -> LookStep | CloseInStep | None:
+        """Count this try on the blackboard and return its planned step (None: nothing planned)."""
+        raise NotImplementedError
+
+    def start_move(self, bb: Blackboard, step: LookStep | CloseInStep) -> None:
+        """Set ``command`` and ``move_s`` for ``step`` and tell the story."""
+        raise NotImplementedError
+
+    def tick(self, bb: Blackboard) -> str | None:
+        moving = self.elapsed(bb) < self.move_s
+        bb.set_command(self.command if moving else None)
+        result = new_result(bb)
+        if result is not None and self.arm_gone(bb, arm_raised(bb, result), self.left_view_text):
+            bb.stop()
+            return "arm_lost"
+        if self.elapsed(bb) >= self.move_s + bb.config.second_look_settle_s:
+            if bb.fusion is not None:
+                bb.fusion.reset()
+            bb.say(self.done_text)
+            return self.done_trigger
+        return None
+
+    def exit(self, bb: Blackboard) -> None:
+        bb.stop()
+
+
+class SecondLook(_MoveThenDecide):
+    """Two objects stay close: step sideways / vertically (``bb.look_step``) to see them apart, settle,
+    then decide again from there (the fused evidence restarts: a new viewpoint). The diver gone from the
+    view (``arm_lost_frames`` frames without the raised arm) -> stop, back to waiting (holding)."""
+
+    name = "second_look"
+    triggers = ("looked", "arm_lost")
+    done_trigger = "looked"
+    done_text = "second look done: deciding again from here"
+    left_view_text = "diver left the view during the second look"
+
+    def take_step(self, bb: Blackboard) -> LookStep | None:
+        """Count this second look and return its planned step."""
+        bb.second_looks += 1
+        return bb.look_step
+
+    def start_move(self, bb: Blackboard, step: LookStep) -> None:
+        """Step ``behaviour.second_look_step_m`` at ``behaviour.second_look_speed_m_s`` (sway / heave)."""
+        c = bb.config
+        self.move_s = c.second_look_step_m / c.second_look_speed_m_s
+        v = c.second_look_speed_m_s
+        dx, dy, _ = step.offset_m
+        n = max(abs(dx), abs(dy), 1e-9)
+        self.command = VelocityCommand(sway_m_s=v * dx / n, heave_m_s=v * dy / n)
+        bb.say(f"second look {bb.second_looks}: {c.second_look_step_m:.2f} m {step.direction}", "notice", pilot=True)
+        bb.say(f"second look: separation {step.before_rad:.3f} -> {step.after_rad:.3f} rad")
+
+
+class CloseIn(_MoveThenDecide):
+    """The diver is too far for the arm's tilt to be measured: advance toward them (``bb.close_in_step``),
+    settle, then decide again from there (the fused evidence restarts: a new viewpoint).
+
+    The advance was planned to end no nearer the diver than ``behaviour.close_in_standoff_m``, with
+    every object hypothesis in view and none on the path; it is commanded as surge and sway at
+    ``behaviour.close_in_speed_m_s`` (with heave when it sinks, ``behaviour.close_in_max_descent_m``)
+    for its length over that speed (heading kept), then nothing for
+    ``behaviour.second_look_settle_s``. The diver gone from the view (``arm_lost_frames`` frames
+    without the raised arm) -> stop, back to waiting (holding).
+    """
+
+    name = "close_in"
+    triggers = ("closer", "arm_lost")
+    done_trigger = "closer"
+    done_text = "closed in: deciding again from here"
+    left_view_text = "diver left the view while closing in"
+
+    def take_step(self, bb: Blackboard) -> CloseInStep | None:
+        """Count this advance and return its planned step."""
+        bb.close_ins += 1
+        return bb.close_in_step
+
+    def start_move(self, bb: Blackboard, step: CloseInStep) -> None:
+        """Advance ``step.distance_m`` at ``behaviour.close_in_speed_m_s`` (surge, sway, heave)."""
+        v = bb.config.close_in_speed_m_s
+        dx, dy, dz = step.offset_m
+        n = max(math.sqrt(dx * dx + dy * dy + dz * dz), 1e-9)
+        self.move_s = step.distance_m / v
+        self.command = VelocityCommand(surge_m_s=v * dz / n, sway_m_s=v * dx / n, heave_m_s=v * dy / n)
+        down = f", {step.descent_m:.2f} m down" if step.descent_m > 0 else ""
+        bb.say(f"diver {step.range_before_m:.1f} m away: closing in {step.distance_m:.2f} m to "
+               f"{step.range_after_m:.1f} m{down} before deciding", "notice", pilot=True)
+        bb.say(f"close in: the diver's shoulder seen from {math.degrees(step.elevation_after_rad):.1f} deg below")
