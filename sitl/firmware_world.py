@@ -48,7 +48,7 @@ from dip3d_vehicle.link.state import mode_name
 from .ardusub_sitl import DEFAULT_HOME, EXTERNAL_NAV_ARGS, EXTERNAL_NAV_PARAMS, ArdusubSitl, SitlOptions
 from .autopilot import Event
 from .dynamics import VehicleState
-from .scenario import Scenario
+from .scenario_model import Scenario
 from .simulation import Received, Router, SimPilot, Simulation, _Peer
 from .worker_perception import WorkerPerception
 

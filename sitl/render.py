@@ -35,8 +35,10 @@ import numpy as np
 from dip3d_vehicle.frames import StereoFrame
 
 from .body import PosedBody, load_body, pose_body
+from .diver import Diver
 from .raster import draw_mesh, face_normals, shade_faces
-from .scenario import Diver, Placard, Scenario, Water, load_scenario
+from .scenario import load_scenario
+from .scenario_model import Placard, Scenario, Water
 from .textures import mip_levels, placard_texture
 from .world import (CameraPose, VehiclePose, left_camera_pose, project_distorted, project_pinhole,
                     right_camera_pose)

@@ -56,7 +56,8 @@ def run(args: argparse.Namespace) -> int:
     """Run one simulated mission and print its outcome."""
     from dip3d_vehicle.perception.calibration_io import write_opencv_calibration
     from sitl.scenario import load_scenario
-    from sitl.fault_campaign import load_fault_plan, make_simulation
+    from sitl.fault_mission import make_simulation
+    from sitl.faults import load_fault_plan
     from sitl.live import LiveStory
     from sitl.outcome import OUTCOME_EXIT_CODES
     from sitl.simulation import sim_params
