@@ -36,6 +36,8 @@ class _Driver:
         self.setpoint: tuple[float, float] | None = None  # (vx m/s, yaw rate rad/s)
         self._next_hb = self._next_mc = self._next_sp = 0.0
         self.last: dict[str, Any] = {}
+        self.log: list[str] = []  # the firmware's STATUSTEXTs and mode changes, for a failure's message
+        self._t0 = time.monotonic()
 
     def run(self, seconds: float) -> None:
         end = time.monotonic() + seconds
@@ -53,8 +55,20 @@ class _Driver:
                     0, 1, 1, 8, 1479, 0, 0, 0, vx, 0, 0, 0, 0, 0, 0, r), 1, 191)
                 self._next_sp = now + 0.1
             for msg in self.m.pump():
+                if msg.get_type() == "HEARTBEAT" and msg.type != m2.MAV_TYPE_SUBMARINE:
+                    continue  # not the autopilot's: the simulated external navigation's (17/18, custom_mode 0), routed to us
+                self._note(msg)
                 self.last[msg.get_type()] = msg
             time.sleep(0.005)
+
+    def _note(self, msg: Any) -> None:
+        """Log a STATUSTEXT or a change of the autopilot's mode, with the seconds since the driver started."""
+        t = time.monotonic() - self._t0
+        kind = msg.get_type()
+        if kind == "STATUSTEXT":
+            self.log.append(f"{t:.1f} s: {msg.text}")
+        elif kind == "HEARTBEAT" and "HEARTBEAT" in self.last and msg.custom_mode != self.last["HEARTBEAT"].custom_mode:
+            self.log.append(f"{t:.1f} s: mode {self.last['HEARTBEAT'].custom_mode} -> {msg.custom_mode}")
 
     def speed_m_s(self) -> float:
         s = self.last["SIM_STATE"]
@@ -64,6 +78,7 @@ class _Driver:
         return float(self.last["SIM_STATE"].zgyro)
 
     def mode(self) -> int:
+        """Return the autopilot's mode (its last HEARTBEAT's custom_mode)."""
         return int(self.last["HEARTBEAT"].custom_mode)
 
 
@@ -99,7 +114,7 @@ def test_guided_velocity_times_out_and_yaw_rate_does_not_on_the_firmware() -> No
     finally:
         status = sitl.stop()
     assert status == 0
-    assert mode == 4  # GUIDED throughout
+    assert mode == 4, d.log  # GUIDED throughout
     assert moving > 0.15 and before_timeout > 0.1, (moving, before_timeout)
     assert after_timeout < 0.08, after_timeout
     assert turning > 0.2 and still_turning > 0.2, (turning, still_turning)  # never times out
