@@ -20,8 +20,15 @@ class _ReleaseWatch(MissionState):
 
     lowered = 0
 
-    def arm_released(self, bb: Blackboard, result) -> bool:
-        """Count a frame without the raised arm (reset on one with it); True once the arm is down."""
+    def enter(self, bb: Blackboard) -> None:
+        super().enter(bb)
+        self.lowered = 0
+
+    def arm_released(self, bb: Blackboard) -> bool:
+        """Count this tick's new frame without the raised arm (reset on one with it); True once the arm is down."""
+        result = new_result(bb)
+        if result is None:
+            return False
         self.lowered = 0 if arm_raised(bb, result) else self.lowered + 1
         if self.lowered >= bb.config.release_frames:
             bb.say("diver's arm down: ready for a new request")
@@ -58,13 +65,9 @@ class Done(_ReleaseWatch):
         rng = bb.config.standoff_m + (e.range_m if e is not None and e.range_m is not None else 0.0)
         px = e.pixel_px if e is not None else float("nan")
         bb.say(f"arrived: range {rng:.2f} m, {px:.0f} px off", pilot=True)
-        self.lowered = 0
 
     def tick(self, bb: Blackboard) -> str | None:
-        result = new_result(bb)
-        if result is None:
-            return None
-        return "released" if self.arm_released(bb, result) else None
+        return "released" if self.arm_released(bb) else None
 
 
 class Abort(MissionState):
@@ -149,15 +152,11 @@ class NothingThere(_ReleaseWatch):
         bb.say("shaking: yaw left-right-left-right, then waiting for a new point")
         self.shake = Acknowledgement(bb.config, shake=True)
         self.shake.start(bb.now_s)
-        self.lowered = 0
 
     def tick(self, bb: Blackboard) -> str | None:
         command, _, finished = self.shake.tick(bb.now_s)
         bb.set_command(None if finished else command)
-        result = new_result(bb)
-        if not finished or result is None:
-            return None
-        return "released" if self.arm_released(bb, result) else None
+        return "released" if finished and self.arm_released(bb) else None
 
     def exit(self, bb: Blackboard) -> None:
         bb.set_command(None)

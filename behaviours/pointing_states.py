@@ -95,6 +95,10 @@ class _ArmWatch(MissionState):
 
     misses = 0
 
+    def enter(self, bb: Blackboard) -> None:
+        super().enter(bb)
+        self.misses = 0
+
     def arm_gone(self, bb: Blackboard, raised: bool, why: str) -> bool:
         """Count a frame without the raised arm (reset on one with it); True once the arm is gone."""
         self.misses = 0 if raised else self.misses + 1
@@ -114,7 +118,6 @@ class ConfirmPoint(_ArmWatch):
         super().enter(bb)
         bb.set_command(None)
         self.window: list[tuple[float, np.ndarray]] = []
-        self.misses = 0
 
     def tick(self, bb: Blackboard) -> str | None:
         c = bb.config
@@ -160,7 +163,6 @@ class SelectTarget(_ArmWatch):
         super().enter(bb)
         bb.set_command(None)
         self.box = VoteBox(bb.config.vote_radius_m)
-        self.misses = 0
         self.added = 0
         self.last_arm3d = None
 
@@ -268,7 +270,6 @@ class _MoveThenDecide(_ArmWatch):
 
     def enter(self, bb: Blackboard) -> None:
         super().enter(bb)
-        self.misses = 0
         self.move_s: float = 0.0
         self.command: VelocityCommand | None = None
         step = self.take_step(bb)
