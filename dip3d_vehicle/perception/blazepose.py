@@ -27,7 +27,8 @@ from ..models import model_path
 from .blazepose_decode import DETECTOR_SIZE, decode, weighted_nms
 from .blazepose_roi import Roi, crop_matrix, letterbox_matrix, roi_from_points, warp
 from .calibration import StereoRig
-from .joint_stereo import (JointDisparity, joint_disparities, match_joint_disparity, shoulder_disparity,
+from .joint_stereo import (JOINT_FLOOR_FACTOR, JointDisparity, joint_disparities, match_joint_disparity,
+                           shoulder_disparity,
                            subpixel_peak as _subpixel)
 from .pose import ARM_INDICES, PoseEstimator
 from .values import ArmKeypoints
@@ -52,12 +53,6 @@ JOINT_PATCH_M = 0.12
 """Side of the patch matched around an elbow or wrist for ``stereo``, metres at the body's depth (wrist
 disparity error on paper_pool's diver at 3 m: std 0.9 px at 0.12 m, 1.1 at 0.09, 2.2 at 0.06; issue 14)."""
 _OTHER = {"right": "left", "left": "right"}
-JOINT_FLOOR_FACTOR = np.array([1.0, 2.5, 1.0])
-"""Per joint (shoulder, elbow, wrist): the disparity sigma floor of ``stereo`` in units of
-``blazepose.disparity_floor_px``. The elbow's landmark sits on the arm's edge and a level arm has
-only row-parallel edges there: on the simulated diver its matched disparity erred by 2-3 px
-(median) and 7-12 px (p90) against 0.5-1.5 / 1.3-2.9 px for the wrist (``sitl.arm_eval``, issue 14)."""
-
 Contrast = tuple[np.ndarray, np.ndarray]
 """Per-channel (low, high) levels of a contrast stretch, in the image's channel order."""
 

@@ -49,10 +49,14 @@ class HeldArm:
         if not self.arms:
             return None
         a = list(self.arms)
+        matched, sigma = None, a[-1].disparity_sigma_px
+        if all(x.disparity_matched is not None for x in a):  # matched in every frame: the largest match sigma
+            matched = np.all([x.disparity_matched for x in a], axis=0)
+            sigma = np.max([x.disparity_sigma_px for x in a], axis=0)
         return dataclasses.replace(
             a[-1], left_px=np.mean([x.left_px for x in a], axis=0), right_px=np.mean([x.right_px for x in a], axis=0),
             left_conf=np.min([x.left_conf for x in a], axis=0), right_conf=np.min([x.right_conf for x in a], axis=0),
-            source=f"{a[-1].source} (mean of {len(a)})")
+            source=f"{a[-1].source} (mean of {len(a)})", disparity_matched=matched, disparity_sigma_px=sigma)
 
 
 def decide_held(perception: Perception, arm: ArmKeypoints, frames: int, result: PerceptionResult) -> PerceptionResult:

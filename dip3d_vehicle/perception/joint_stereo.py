@@ -12,12 +12,15 @@ score stays below ``min_score`` keeps the backend's estimate.
 from __future__ import annotations
 
 import math
+import dataclasses
 from dataclasses import dataclass
 
 import cv2
 import numpy as np
 
-__all__ = ["match_joint_disparity", "subpixel_peak", "joint_disparities", "JointDisparity", "reach_disparities",
+from .values import ArmKeypoints
+
+__all__ = ["JOINT_FLOOR_FACTOR", "match_arm", "match_joint_disparity", "subpixel_peak", "joint_disparities", "JointDisparity", "reach_disparities",
            "shoulder_disparity", "SHOULDER_WIDTH_M",
            "ARM_REACH_M"]
 
@@ -191,6 +194,46 @@ def joint_disparities(left: np.ndarray, right: np.ndarray, left_xy: np.ndarray, 
         sigma[k], matched[k], score[k] = sig, True, sc
     return JointDisparity(disp, sigma, matched, score)
 
+
+
+JOINT_FLOOR_FACTOR = np.array([1.0, 2.5, 1.0])
+"""Per joint (shoulder, elbow, wrist): the disparity sigma floor of ``stereo`` in units of
+``blazepose.disparity_floor_px``. The elbow's landmark sits on the arm's edge and a level arm has
+only row-parallel edges there: on the simulated diver its matched disparity erred by 2-3 px
+(median) and 7-12 px (p90) against 0.5-1.5 / 1.3-2.9 px for the wrist (``sitl.arm_eval``, issue 14)."""
+
+
+def match_arm(arm: ArmKeypoints, left: np.ndarray, right: np.ndarray, sign: int, focal_px: float,
+              baseline_m: float, floor_px: float) -> ArmKeypoints:
+    """Return the arm with each joint's disparity measured by matching its left patch along its row (pixels).
+
+    For a pose source that places each image's keypoints independently (a keypoints file, the
+    simulator's truth plus noise): their left/right disagreement (2 px each: ~2.8 px of disparity,
+    ~0.15 m of depth at 2.5 m) is what leaves the arm's tilt toward the camera uncertain. The
+    left joint's patch is searched along the same rectified row of the right image, within the
+    depths an arm reaches from the body (the keypoints' median disparity), as BlazePose's
+    ``joint_disparity: stereo`` does (``joint_disparities``). A matched joint moves to the left
+    joint's row at the matched disparity, its sigma the match's own, at least ``floor_px`` times
+    ``JOINT_FLOOR_FACTOR`` (the patch shows the limb's near surface, a few centimetres before the
+    joint's centre; the elbow's often holds the torso behind it); an
+    unmatched one keeps the given keypoints. The arm is returned unchanged when its keypoints give
+    no positive disparity.
+    """
+    disparity = arm.left_px[:, 0] - arm.right_px[:, 0]
+    body = float(np.median(disparity))
+    if not math.isfinite(body) or sign * body <= 0.5:
+        return arm
+    found = joint_disparities(left, right, arm.left_px, body, sign, focal_px, baseline_m)
+    if not np.any(found.matched):
+        return arm
+    right_px = np.array(arm.right_px, dtype=float, copy=True)
+    m = found.matched
+    right_px[m, 0] = arm.left_px[m, 0] - found.disparity_px[m]
+    right_px[m, 1] = arm.left_px[m, 1]
+    sigma = np.where(m, np.maximum(found.sigma_px, floor_px * JOINT_FLOOR_FACTOR), np.nan)
+    if arm.disparity_sigma_px is not None:
+        sigma = np.where(m, sigma, np.asarray(arm.disparity_sigma_px, dtype=float))
+    return dataclasses.replace(arm, right_px=right_px, disparity_sigma_px=sigma, disparity_matched=m.copy())
 
 
 SHOULDER_WIDTH_M = (0.38, 0.03)

@@ -19,6 +19,7 @@ from .calibration import StereoRig
 from .candidates import CandidateDetector, SiftDetector
 from .corridor import CorridorDetector, merge_candidates
 from .filters import candidate_keep, pose_rejection
+from .joint_stereo import match_arm
 from .pose import PoseEstimator
 from .reuse import CandidateReuse
 from .selection import PointingSelector, make_selector
@@ -202,7 +203,7 @@ class Perception:
             self.pose.set_early_arm_listener(on_early_arm)
         with clock("pose"):
             try:
-                arm = self.pose.estimate(left_rect, right_rect, self.rig)
+                arm = self.estimate_arm(left_rect, right_rect)
             finally:
                 self.pose.set_early_arm_listener(None)
         with clock("triangulate"):
@@ -293,6 +294,21 @@ class Perception:
                 and np.array_equal(left_px, arm.left_px))
         return found if same else None
 
+    def estimate_arm(self, left_rect: np.ndarray, right_rect: np.ndarray) -> ArmKeypoints | None:
+        """Return the pose backend's arm (rectified px), its joints' disparities matched when ``pose.match_disparity``.
+
+        Only for an arm whose backend gives no disparity sigma of its own (keypoints files, the
+        simulator's truth; BlazePose's ``joint_disparity: stereo`` already matches): see
+        ``joint_stereo.match_arm``.
+        """
+        arm = self.pose.estimate(left_rect, right_rect, self.rig)
+        if arm is None or arm.disparity_sigma_px is not None or not self.params.get("pose.match_disparity", False):
+            return arm
+        if left_rect is None or right_rect is None:
+            return arm
+        return match_arm(arm, left_rect, right_rect, self.rig.disparity_sign, self.rig.focal_px, self.rig.baseline_m,
+                         float(self.params["pose.match_disparity_floor_px"]))
+
     def check_arm(self, arm: ArmKeypoints | None) -> PerceptionResult:
         """Triangulate and filter the arm; status "ok" when it may be used for selection."""
         if arm is None:
@@ -336,9 +352,13 @@ class Perception:
         rows = (arm.left_px[:, 1] + arm.right_px[:, 1]) / 2.0
         xyz = triangulate(self.Q, np.c_[arm.left_px[:, 0], rows], disp)
         prior = self.params["selection.keypoint_sigma_px"] if prior_sigma_px is None else prior_sigma_px
-        disparity_sigma_px = math.sqrt(2.0) * keypoint_noise_px(arm, prior)
+        disparity_sigma_px = np.full(len(disp), math.sqrt(2.0) * keypoint_noise_px(arm, prior))
         if arm.disparity_sigma_px is not None:  # the estimator's own per-joint figure, where it is larger
-            disparity_sigma_px = np.maximum(disparity_sigma_px, np.asarray(arm.disparity_sigma_px, dtype=float))
+            own = np.asarray(arm.disparity_sigma_px, dtype=float)
+            known = np.isfinite(own)
+            raised = np.where(known, np.maximum(disparity_sigma_px, np.where(known, own, 0.0)), disparity_sigma_px)
+            matched = np.zeros(len(disp), bool) if arm.disparity_matched is None else arm.disparity_matched & known
+            disparity_sigma_px = np.where(matched, own, raised)  # a patch match's own sigma, as it is
         sigma = self.rig.depth_sigma_m(np.abs(xyz[:, 2]), disparity_sigma_px)
         return Arm3D(xyz, np.asarray(sigma, dtype=float))
 
@@ -357,6 +377,8 @@ def keypoint_noise_px(arm: ArmKeypoints, prior_px: float, prior_weight: float = 
     clean keypoints are believed: with three the 2 px prior kept 0.13 m of depth doubt at 2.6 m).
     """
     dy = arm.left_px[:, 1] - arm.right_px[:, 1]
+    if arm.disparity_matched is not None:  # a matched joint sits on the left joint's row: no residual to read
+        dy = dy[~np.asarray(arm.disparity_matched, bool)]
     return math.sqrt((prior_weight * prior_px ** 2 + float(np.sum(dy ** 2)) / 2.0) / (prior_weight + len(dy)))
 
 

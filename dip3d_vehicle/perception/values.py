@@ -43,6 +43,10 @@ class ArmKeypoints:
             where the estimator places a joint and the joint's centre: a pose model's landmark
             definition and bias, systematic over the frames of one pose (it does not average);
             None = none beyond ``selection.keypoint_sigma_px`` (truth + noise, keypoints files).
+        disparity_matched: optional (3,) bool: joints whose disparity was measured by matching the
+            left joint's image patch along its rectified row (``joint_stereo.match_arm``); their
+            ``disparity_sigma_px`` is the match's own and is used as it is, not raised to the
+            keypoints' noise (the match does not inherit the keypoints' left/right disagreement).
     """
 
     arm: str
@@ -54,6 +58,7 @@ class ArmKeypoints:
     extra_left_px: dict = field(default_factory=dict)
     disparity_sigma_px: np.ndarray | None = None
     keypoint_sigma_m: float | None = None
+    disparity_matched: np.ndarray | None = None
 
     def joint(self, name: str, side: str = "left") -> np.ndarray:
         """Return one joint's (x, y) in the rectified ``side`` image, pixels."""

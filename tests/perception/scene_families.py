@@ -299,7 +299,7 @@ def tally_family(tmp: Path, family: str, n_scenes: int, draws: int, seed0: int, 
             for sigma in noise_px:
                 for _ in range(draws if sigma > 0 else 1):
                     pose.provide(noisy(truth, sigma, rng))
-                    checked = perception.check_arm(pose.estimate(left, right, rig))
+                    checked = perception.check_arm(perception.estimate_arm(left, right))
                     result = checked
                     if checked.status == "ok":
                         result = perception.decide(checked, perception.add_corridor(left, right, checked.arm, base))

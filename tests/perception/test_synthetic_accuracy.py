@@ -150,7 +150,7 @@ def scene_counts(tmp: Path, n_scenes: int, near: bool, draws: int, seed0: int = 
             for sigma in NOISE_PX:
                 for _ in range(draws if sigma > 0 else 1):
                     pose.provide(noisy(truth, sigma, draw_rng))
-                    checked = perception.check_arm(pose.estimate(left_rect, right_rect, rig))
+                    checked = perception.check_arm(perception.estimate_arm(left_rect, right_rect))
                     hit = False
                     if checked.status == "ok":
                         result = perception.decide(checked, cands)
