@@ -20,7 +20,7 @@ import numpy as np
 
 from .values import ArmKeypoints
 
-__all__ = ["JOINT_FLOOR_FACTOR", "match_arm", "match_joint_disparity", "subpixel_peak", "joint_disparities", "JointDisparity", "reach_disparities",
+__all__ = ["JOINT_FLOOR_FACTOR", "MATCH_GROSS_SIGMAS", "match_arm", "match_joint_disparity", "subpixel_peak", "joint_disparities", "JointDisparity", "reach_disparities",
            "shoulder_disparity", "SHOULDER_WIDTH_M",
            "ARM_REACH_M"]
 
@@ -203,8 +203,13 @@ only row-parallel edges there: on the simulated diver its matched disparity erre
 (median) and 7-12 px (p90) against 0.5-1.5 / 1.3-2.9 px for the wrist (``sitl.arm_eval``, issue 14)."""
 
 
+MATCH_GROSS_SIGMAS = 3.0
+"""A joint's match further than this many combined sigmas from the given keypoints' disparity is a wrong
+match (an elbow's patch locked on the torso behind it) and is dropped."""
+
+
 def match_arm(arm: ArmKeypoints, left: np.ndarray, right: np.ndarray, sign: int, focal_px: float,
-              baseline_m: float, floor_px: float) -> ArmKeypoints:
+              baseline_m: float, floor_px: float, given_sigma_px: float) -> ArmKeypoints:
     """Return the arm with each joint's disparity measured by matching its left patch along its row (pixels).
 
     For a pose source that places each image's keypoints independently (a keypoints file, the
@@ -212,12 +217,13 @@ def match_arm(arm: ArmKeypoints, left: np.ndarray, right: np.ndarray, sign: int,
     ~0.15 m of depth at 2.5 m) is what leaves the arm's tilt toward the camera uncertain. The
     left joint's patch is searched along the same rectified row of the right image, within the
     depths an arm reaches from the body (the keypoints' median disparity), as BlazePose's
-    ``joint_disparity: stereo`` does (``joint_disparities``). A matched joint moves to the left
-    joint's row at the matched disparity, its sigma the match's own, at least ``floor_px`` times
-    ``JOINT_FLOOR_FACTOR`` (the patch shows the limb's near surface, a few centimetres before the
-    joint's centre; the elbow's often holds the torso behind it); an
-    unmatched one keeps the given keypoints. The arm is returned unchanged when its keypoints give
-    no positive disparity.
+    ``joint_disparity: stereo`` does (``joint_disparities``). The match's sigma is its own, at least
+    ``floor_px`` times ``JOINT_FLOOR_FACTOR`` (the patch shows the limb's near surface, a few
+    centimetres before the joint's centre; the elbow's often holds the torso behind it). A match
+    within ``MATCH_GROSS_SIGMAS`` of the given disparity (sigma ``given_sigma_px``) is combined with
+    it by inverse variance: the joint moves to the left joint's row at that disparity, with that
+    sigma; a farther one, or none, leaves the joint as given. The arm is returned unchanged when its
+    keypoints give no positive disparity.
     """
     disparity = arm.left_px[:, 0] - arm.right_px[:, 0]
     body = float(np.median(disparity))
@@ -226,11 +232,17 @@ def match_arm(arm: ArmKeypoints, left: np.ndarray, right: np.ndarray, sign: int,
     found = joint_disparities(left, right, arm.left_px, body, sign, focal_px, baseline_m)
     if not np.any(found.matched):
         return arm
+    match_sigma = np.maximum(found.sigma_px, floor_px * JOINT_FLOOR_FACTOR)
+    given = max(float(given_sigma_px), 1e-3)
+    m = found.matched & (np.abs(found.disparity_px - disparity) <= MATCH_GROSS_SIGMAS * np.hypot(match_sigma, given))
+    if not np.any(m):
+        return arm
+    w_match, w_given = 1.0 / match_sigma ** 2, 1.0 / given ** 2
+    combined = (w_match * found.disparity_px + w_given * disparity) / (w_match + w_given)
     right_px = np.array(arm.right_px, dtype=float, copy=True)
-    m = found.matched
-    right_px[m, 0] = arm.left_px[m, 0] - found.disparity_px[m]
+    right_px[m, 0] = arm.left_px[m, 0] - combined[m]
     right_px[m, 1] = arm.left_px[m, 1]
-    sigma = np.where(m, np.maximum(found.sigma_px, floor_px * JOINT_FLOOR_FACTOR), np.nan)
+    sigma = np.where(m, 1.0 / np.sqrt(w_match + w_given), np.nan)
     if arm.disparity_sigma_px is not None:
         sigma = np.where(m, sigma, np.asarray(arm.disparity_sigma_px, dtype=float))
     return dataclasses.replace(arm, right_px=right_px, disparity_sigma_px=sigma, disparity_matched=m.copy())

@@ -269,11 +269,12 @@ def rate(counts: dict, what: str) -> float:
 
 
 def tally_family(tmp: Path, family: str, n_scenes: int, draws: int, seed0: int, noise_px=(0.0, 1.0, 2.0, 4.0),
-                 profiles=("paper", "default"), tally: Tally | None = None) -> Tally:
+                 profiles=("paper", "default"), tally: Tally | None = None, overrides=()) -> Tally:
     """Run both selectors over generated scenes of one family; return the outcome and recall tally.
 
     The main candidate pass runs once per scene and profile (it does not depend on keypoint
-    noise); the pointing corridor, which does, runs on every noisy draw. Recall counts the
+    noise); the pointing corridor, which does, runs on every noisy draw (``overrides``: ``KEY=VALUE``
+    parameters for every profile). Recall counts the
     scenes whose pointed placard is detectable: some candidate (an object for ``default``, a
     feature for ``paper``) lies on it, with the truth keypoints.
     """
@@ -287,7 +288,7 @@ def tally_family(tmp: Path, family: str, n_scenes: int, draws: int, seed0: int, 
         left, right = rig.rectify(scene.frame.left, scene.frame.right)
         for profile in profiles:
             pose = GivenKeypoints("right", truth)
-            perception = Perception(rig, load_params(profile), pose)
+            perception = Perception(rig, load_params(profile, overrides=overrides), pose)
             arm = pose.estimate(left, right, rig)
             base = perception.detector.detect(left, right, arm, rig)
             if scene.detectable:

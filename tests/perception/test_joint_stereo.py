@@ -123,12 +123,12 @@ def test_match_arm_measures_each_joints_disparity_and_its_own_sigma():
     rng = np.random.default_rng(0)
     for _ in range(10):
         arm = _noisy_arm(37.0, rng)
-        out = match_arm(arm, left, right, 1, 920.0, 0.12, floor_px=0.5)
+        out = match_arm(arm, left, right, 1, 920.0, 0.12, floor_px=0.5, given_sigma_px=1e6)
         assert out.disparity_matched.all()
         assert np.allclose(out.left_px[:, 0] - out.right_px[:, 0], 37.0, atol=0.35)
         assert np.array_equal(out.right_px[:, 1], out.left_px[:, 1]) and np.array_equal(out.left_px, arm.left_px)
         floor = 0.5 * JOINT_FLOOR_FACTOR
-        assert np.all(out.disparity_sigma_px >= floor) and np.all(out.disparity_sigma_px <= np.maximum(floor, 1.0))
+        assert np.all(out.disparity_sigma_px >= floor - 1e-9) and np.all(out.disparity_sigma_px <= np.maximum(floor, 1.0))
 
 
 def test_match_arm_keeps_what_it_cannot_match():
@@ -138,19 +138,33 @@ def test_match_arm_keeps_what_it_cannot_match():
     rng = np.random.default_rng(1)
     arm = _noisy_arm(37.0, rng)
     flat = np.full_like(left, 90)
-    assert match_arm(arm, left, flat, 1, 920.0, 0.12, 0.5) is arm          # nothing matches
+    assert match_arm(arm, left, flat, 1, 920.0, 0.12, 0.5, 2.8) is arm          # nothing matches
     behind = _noisy_arm(-5.0, rng, 0.0)                                        # no positive disparity
-    assert match_arm(behind, left, right, 1, 920.0, 0.12, 0.5) is behind
+    assert match_arm(behind, left, right, 1, 920.0, 0.12, 0.5, 2.8) is behind
     striped_l, striped_r = _stripes(37)
     arm = _noisy_arm(37.0, rng, 0.0)
     arm.left_px[1] = arm.right_px[1] + [37.0, 0.0]
     arm.left_px[1, 1] = arm.right_px[1, 1] = 170.0                            # the elbow on row-parallel stripes
-    out = match_arm(arm, striped_l, striped_r, 1, 920.0, 0.12, 0.5)
+    out = match_arm(arm, striped_l, striped_r, 1, 920.0, 0.12, 0.5, 2.8)
     if not out.disparity_matched[1]:
         assert np.array_equal(out.right_px[1], arm.right_px[1]) and np.isnan(out.disparity_sigma_px[1])
 
 
-def test_a_matched_joints_sigma_is_used_as_it_is_and_the_paper_keeps_its_keypoints():
+
+def test_match_arm_combines_with_the_given_disparity_and_drops_a_gross_match():
+    from dip3d_vehicle.perception.joint_stereo import match_arm
+
+    left, right = _pair(37)
+    arm = _noisy_arm(37.0, np.random.default_rng(3), 0.0)
+    arm.right_px[:, 0] = arm.left_px[:, 0] - [35.0, 37.0, 28.0]     # the wrist's given disparity 9 px off
+    out = match_arm(arm, left, right, 1, 920.0, 0.12, floor_px=1.0, given_sigma_px=2.0)
+    assert out.disparity_matched.tolist() == [True, True, False]     # 9 px > 3 x hypot(1, 2): dropped
+    assert np.array_equal(out.right_px[2], arm.right_px[2]) and np.isnan(out.disparity_sigma_px[2])
+    d = out.left_px[0, 0] - out.right_px[0, 0]
+    assert abs(d - (37.0 * 4 + 35.0) / 5) < 0.3                       # inverse variance: 1/1 and 1/4
+    assert abs(out.disparity_sigma_px[0] - 1.0 / np.sqrt(1.25)) < 1e-6
+
+def test_a_matched_joints_sigma_is_used_as_it_is_and_unset_keeps_the_keypoints():
     from dip3d_vehicle.config import load_params
     from dip3d_vehicle.perception.keypoints_file import GivenKeypoints
     from dip3d_vehicle.perception.pipeline import Perception
@@ -163,12 +177,14 @@ def test_a_matched_joints_sigma_is_used_as_it_is_and_the_paper_keeps_its_keypoin
     found = {}
     for profile in ("default", "paper"):
         pose = GivenKeypoints("right", keypoints)
-        perception = Perception(rig, load_params(profile), pose)
+        on = {"pose.match_disparity": True} if profile == "default" else {}     # opt-in (off in every profile)
+        perception = Perception(rig, load_params(profile, overrides=on), pose)
         found[profile] = perception.estimate_arm(left, right)
     given, matched = found["paper"], found["default"]
     assert given.disparity_matched is None and np.allclose(given.right_px, arm.right_px)
     assert matched.disparity_matched.all()
-    perception = Perception(rig, load_params("default"), GivenKeypoints("right", keypoints))
+    perception = Perception(rig, load_params("default", overrides={"pose.match_disparity": True}),
+                            GivenKeypoints("right", keypoints))
     sigma_given = perception.triangulate_arm(given).depth_sigma_m
     sigma_matched = perception.triangulate_arm(matched).depth_sigma_m
     expected = rig.depth_sigma_m(np.abs(perception.triangulate_arm(matched).xyz_m[:, 2]), matched.disparity_sigma_px)
@@ -202,7 +218,7 @@ def test_the_simulated_divers_joints_match_to_under_a_pixel():
     given_err, matched_err = [], []
     for _ in range(12):
         arm = GivenKeypoints("right", noisy(truth, 2.0, rng)).estimate(left, right, rig)
-        out = match_arm(arm, left, right, rig.disparity_sign, rig.focal_px, rig.baseline_m, 0.5)
+        out = match_arm(arm, left, right, rig.disparity_sign, rig.focal_px, rig.baseline_m, 0.5, 2.8)
         given_err.append(np.abs(arm.left_px[:, 0] - arm.right_px[:, 0] - true_disparity))
         matched_err.append(np.where(out.disparity_matched, np.abs(out.left_px[:, 0] - out.right_px[:, 0] - true_disparity),
                                     np.nan))

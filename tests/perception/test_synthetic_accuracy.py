@@ -15,7 +15,7 @@ table; the script prints a second table over the scenes with a clear margin (``C
 
 Run as a script for the full table: ``python tests/perception/test_synthetic_accuracy.py [N]``; the
 open-set families (far, faint, undetectable, elbow clutter, far diver; ``scene_families.py``):
-``python tests/perception/test_synthetic_accuracy.py N families [SEED0]``.
+``python tests/perception/test_synthetic_accuracy.py N families [SEED0 [KEY=VALUE ...]]``.
 """
 
 from __future__ import annotations
@@ -229,10 +229,11 @@ if __name__ == "__main__":  # pragma: no cover - the full table for the closing 
     if len(sys.argv) > 2 and sys.argv[2] == "families":  # the open-set families (scene_families.py)
         import scene_families as sf
         seed0 = int(sys.argv[3]) if len(sys.argv) > 3 else 500
+        overrides = sys.argv[4:]  # KEY=VALUE parameters for both profiles, e.g. pose.match_disparity=true
         everything = sf.Tally()
         with tempfile.TemporaryDirectory() as tmp:
             for family in sf.FAMILIES:
-                sf.tally_family(Path(tmp), family, n, 8, seed0, tally=everything)
+                sf.tally_family(Path(tmp), family, n, 8, seed0, tally=everything, overrides=overrides)
         print(sf.report(everything))
         print("\n" + sf.band_table(everything) + "\n")
         for profile in ("paper", "default"):
