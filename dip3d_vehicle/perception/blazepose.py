@@ -27,8 +27,7 @@ from ..models import model_path
 from .blazepose_decode import DETECTOR_SIZE, decode, weighted_nms
 from .blazepose_roi import Roi, crop_matrix, letterbox_matrix, roi_from_points, warp
 from .calibration import StereoRig
-from .joint_stereo import (JOINT_FLOOR_FACTOR, JointDisparity, joint_disparities, match_joint_disparity,
-                           shoulder_disparity,
+from .joint_stereo import (JointDisparity, joint_disparities, match_joint_disparity, shoulder_disparity,
                            subpixel_peak as _subpixel)
 from .pose import ARM_INDICES, PoseEstimator
 from .values import ArmKeypoints
@@ -448,7 +447,7 @@ class BlazePoseEstimator(PoseEstimator):
     def _matched_right(self, lxy: np.ndarray, found: JointDisparity) -> tuple[np.ndarray, np.ndarray]:
         """Return the right-image joints at the matched disparities and their disparity sigma, pixels."""
         rxy = np.c_[lxy[:, 0] - found.disparity_px, lxy[:, 1]]
-        return rxy, np.maximum(found.sigma_px, self.disparity_floor_px * JOINT_FLOOR_FACTOR)
+        return rxy, found.floored_sigma_px(self.disparity_floor_px)
 
     def _arm_keypoints(self, left: PoseLandmarks, rxy: np.ndarray, rconf: np.ndarray,
                        sigma: np.ndarray | None) -> ArmKeypoints:

@@ -11,8 +11,8 @@ score stays below ``min_score`` keeps the backend's estimate.
 
 from __future__ import annotations
 
-import math
 import dataclasses
+import math
 from dataclasses import dataclass
 
 import cv2
@@ -20,8 +20,8 @@ import numpy as np
 
 from .values import ArmKeypoints
 
-__all__ = ["JOINT_FLOOR_FACTOR", "MATCH_GROSS_SIGMAS", "match_arm", "match_joint_disparity", "subpixel_peak", "joint_disparities", "JointDisparity", "reach_disparities",
-           "shoulder_disparity", "SHOULDER_WIDTH_M",
+__all__ = ["JOINT_FLOOR_FACTOR", "MATCH_GROSS_SIGMAS", "match_arm", "match_joint_disparity", "subpixel_peak",
+           "joint_disparities", "JointDisparity", "reach_disparities", "shoulder_disparity", "SHOULDER_WIDTH_M",
            "ARM_REACH_M"]
 
 
@@ -83,6 +83,12 @@ def match_joint_disparity(left: np.ndarray, right: np.ndarray, left_xy: np.ndarr
 ARM_REACH_M = 0.8
 """How far (depth, metres) an arm joint can lie in front of or behind the body's depth plane."""
 
+JOINT_FLOOR_FACTOR = np.array([1.0, 2.5, 1.0])
+"""Per joint (shoulder, elbow, wrist): the disparity sigma floor of ``stereo`` in units of
+``blazepose.disparity_floor_px``. The elbow's landmark sits on the arm's edge and a level arm has
+only row-parallel edges there: on the simulated diver its matched disparity erred by 2-3 px
+(median) and 7-12 px (p90) against 0.5-1.5 / 1.3-2.9 px for the wrist (``sitl.arm_eval``, issue 14)."""
+
 _FLAT_SCORE = 0.01
 """Disparities scoring within this of the best NCC are as good as the best (their span is the sigma; with
 0.05 the wrist's sigma on the simulated diver was 3-10 times its error, issue 14)."""
@@ -106,6 +112,10 @@ class JointDisparity:
     sigma_px: np.ndarray
     matched: np.ndarray
     score: np.ndarray
+
+    def floored_sigma_px(self, floor_px: float) -> np.ndarray:
+        """Return each joint's sigma, at least ``floor_px`` times its ``JOINT_FLOOR_FACTOR`` (pixels)."""
+        return np.maximum(self.sigma_px, floor_px * JOINT_FLOOR_FACTOR)
 
 
 def reach_disparities(body_disparity_px: float, focal_baseline_px_m: float,
@@ -195,14 +205,6 @@ def joint_disparities(left: np.ndarray, right: np.ndarray, left_xy: np.ndarray, 
     return JointDisparity(disp, sigma, matched, score)
 
 
-
-JOINT_FLOOR_FACTOR = np.array([1.0, 2.5, 1.0])
-"""Per joint (shoulder, elbow, wrist): the disparity sigma floor of ``stereo`` in units of
-``blazepose.disparity_floor_px``. The elbow's landmark sits on the arm's edge and a level arm has
-only row-parallel edges there: on the simulated diver its matched disparity erred by 2-3 px
-(median) and 7-12 px (p90) against 0.5-1.5 / 1.3-2.9 px for the wrist (``sitl.arm_eval``, issue 14)."""
-
-
 MATCH_GROSS_SIGMAS = 3.0
 """A joint's match further than this many combined sigmas from the given keypoints' disparity is a wrong
 match (an elbow's patch locked on the torso behind it) and is dropped."""
@@ -210,7 +212,7 @@ match (an elbow's patch locked on the torso behind it) and is dropped."""
 
 def match_arm(arm: ArmKeypoints, left: np.ndarray, right: np.ndarray, sign: int, focal_px: float,
               baseline_m: float, floor_px: float, given_sigma_px: float) -> ArmKeypoints:
-    """Return the arm with each joint's disparity measured by matching its left patch along its row (pixels).
+    """Return an arm with no disparity sigma of its own, each joint's disparity matched along its row (pixels).
 
     For a pose source that places each image's keypoints independently (a keypoints file, the
     simulator's truth plus noise): their left/right disagreement (2 px each: ~2.8 px of disparity,
@@ -230,9 +232,7 @@ def match_arm(arm: ArmKeypoints, left: np.ndarray, right: np.ndarray, sign: int,
     if not math.isfinite(body) or sign * body <= 0.5:
         return arm
     found = joint_disparities(left, right, arm.left_px, body, sign, focal_px, baseline_m)
-    if not np.any(found.matched):
-        return arm
-    match_sigma = np.maximum(found.sigma_px, floor_px * JOINT_FLOOR_FACTOR)
+    match_sigma = found.floored_sigma_px(floor_px)
     given = max(float(given_sigma_px), 1e-3)
     m = found.matched & (np.abs(found.disparity_px - disparity) <= MATCH_GROSS_SIGMAS * np.hypot(match_sigma, given))
     if not np.any(m):
@@ -243,8 +243,6 @@ def match_arm(arm: ArmKeypoints, left: np.ndarray, right: np.ndarray, sign: int,
     right_px[m, 0] = arm.left_px[m, 0] - combined[m]
     right_px[m, 1] = arm.left_px[m, 1]
     sigma = np.where(m, 1.0 / np.sqrt(w_match + w_given), np.nan)
-    if arm.disparity_sigma_px is not None:
-        sigma = np.where(m, sigma, np.asarray(arm.disparity_sigma_px, dtype=float))
     return dataclasses.replace(arm, right_px=right_px, disparity_sigma_px=sigma, disparity_matched=m.copy())
 
 

@@ -304,8 +304,6 @@ class Perception:
         arm = self.pose.estimate(left_rect, right_rect, self.rig)
         if arm is None or arm.disparity_sigma_px is not None or not self.params.get("pose.match_disparity", False):
             return arm
-        if left_rect is None or right_rect is None:
-            return arm
         given_sigma_px = math.sqrt(2.0) * keypoint_noise_px(arm, self.params["selection.keypoint_sigma_px"])
         return match_arm(arm, left_rect, right_rect, self.rig.disparity_sign, self.rig.focal_px, self.rig.baseline_m,
                          float(self.params["pose.match_disparity_floor_px"]), given_sigma_px)
@@ -355,11 +353,9 @@ class Perception:
         prior = self.params["selection.keypoint_sigma_px"] if prior_sigma_px is None else prior_sigma_px
         disparity_sigma_px = np.full(len(disp), math.sqrt(2.0) * keypoint_noise_px(arm, prior))
         if arm.disparity_sigma_px is not None:  # the estimator's own per-joint figure, where it is larger
-            own = np.asarray(arm.disparity_sigma_px, dtype=float)
-            known = np.isfinite(own)
-            raised = np.where(known, np.maximum(disparity_sigma_px, np.where(known, own, 0.0)), disparity_sigma_px)
-            matched = np.zeros(len(disp), bool) if arm.disparity_matched is None else arm.disparity_matched & known
-            disparity_sigma_px = np.where(matched, own, raised)  # a patch match's own sigma, as it is
+            own = np.asarray(arm.disparity_sigma_px, dtype=float)   # NaN: none for that joint
+            matched = np.isfinite(own) & (False if arm.disparity_matched is None else arm.disparity_matched)
+            disparity_sigma_px = np.where(matched, own, np.fmax(disparity_sigma_px, own))  # a match's own, as it is
         sigma = self.rig.depth_sigma_m(np.abs(xyz[:, 2]), disparity_sigma_px)
         return Arm3D(xyz, np.asarray(sigma, dtype=float))
 
