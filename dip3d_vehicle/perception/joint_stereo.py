@@ -205,6 +205,12 @@ def joint_disparities(left: np.ndarray, right: np.ndarray, left_xy: np.ndarray, 
     return JointDisparity(disp, sigma, matched, score)
 
 
+SHOULDER_MATCH_SIGMA_M = 0.1
+"""One-sigma depth error (metres) of a given arm's matched shoulder: its patch holds the torso and the
+back behind it, so it matches near the torso's depth, which lies up to half a shoulder width (0.19 m)
+from the joint (at 0 px keypoint noise on the earlier 1-3 m scenes the matched shoulder lay 0.12 m
+behind the joint, median; p25 0.04, p75 0.16; 0.01 m for the elbow and wrist)."""
+
 MATCH_GROSS_SIGMAS = 3.0
 """A joint's match further than this many combined sigmas from the given keypoints' disparity is a wrong
 match (an elbow's patch locked on the torso behind it) and is dropped."""
@@ -221,7 +227,8 @@ def match_arm(arm: ArmKeypoints, left: np.ndarray, right: np.ndarray, sign: int,
     depths an arm reaches from the body (the keypoints' median disparity), as BlazePose's
     ``joint_disparity: stereo`` does (``joint_disparities``). The match's sigma is its own, at least
     ``floor_px`` times ``JOINT_FLOOR_FACTOR`` (the patch shows the limb's near surface, a few
-    centimetres before the joint's centre; the elbow's often holds the torso behind it). A match
+    centimetres before the joint's centre; the elbow's often holds the torso behind it), and for
+    the shoulder at least ``SHOULDER_MATCH_SIGMA_M`` of depth (its patch matches the torso). A match
     within ``MATCH_GROSS_SIGMAS`` of the given disparity (sigma ``given_sigma_px``) is combined with
     it by inverse variance: the joint moves to the left joint's row at that disparity, with that
     sigma; a farther one, or none, leaves the joint as given. The arm is returned unchanged when its
@@ -233,6 +240,8 @@ def match_arm(arm: ArmKeypoints, left: np.ndarray, right: np.ndarray, sign: int,
         return arm
     found = joint_disparities(left, right, arm.left_px, body, sign, focal_px, baseline_m)
     match_sigma = found.floored_sigma_px(floor_px)
+    fb = focal_px * baseline_m
+    match_sigma[0] = max(match_sigma[0], found.disparity_px[0] ** 2 / fb * SHOULDER_MATCH_SIGMA_M)
     given = max(float(given_sigma_px), 1e-3)
     m = found.matched & (np.abs(found.disparity_px - disparity) <= MATCH_GROSS_SIGMAS * np.hypot(match_sigma, given))
     if not np.any(m):

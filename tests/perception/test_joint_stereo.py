@@ -117,7 +117,7 @@ def _noisy_arm(disparity_px: float, rng, sigma_px: float = 2.0):
 
 
 def test_match_arm_measures_each_joints_disparity_and_its_own_sigma():
-    from dip3d_vehicle.perception.joint_stereo import JOINT_FLOOR_FACTOR, match_arm
+    from dip3d_vehicle.perception.joint_stereo import JOINT_FLOOR_FACTOR, SHOULDER_MATCH_SIGMA_M, match_arm
 
     left, right = _pair(37)
     rng = np.random.default_rng(0)
@@ -128,7 +128,8 @@ def test_match_arm_measures_each_joints_disparity_and_its_own_sigma():
         assert np.allclose(out.left_px[:, 0] - out.right_px[:, 0], 37.0, atol=0.35)
         assert np.array_equal(out.right_px[:, 1], out.left_px[:, 1]) and np.array_equal(out.left_px, arm.left_px)
         floor = 0.5 * JOINT_FLOOR_FACTOR
-        assert np.all(out.disparity_sigma_px >= floor - 1e-9) and np.all(out.disparity_sigma_px <= np.maximum(floor, 1.0))
+        floor[0] = max(floor[0], 37.0 ** 2 / (920.0 * 0.12) * SHOULDER_MATCH_SIGMA_M)    # the torso behind it
+        assert np.all(out.disparity_sigma_px >= 0.98 * floor) and np.all(out.disparity_sigma_px <= 1.02 * np.maximum(floor, 1.0))
 
 
 def test_match_arm_keeps_what_it_cannot_match():
@@ -152,7 +153,7 @@ def test_match_arm_keeps_what_it_cannot_match():
 
 
 def test_match_arm_combines_with_the_given_disparity_and_drops_a_gross_match():
-    from dip3d_vehicle.perception.joint_stereo import match_arm
+    from dip3d_vehicle.perception.joint_stereo import SHOULDER_MATCH_SIGMA_M, match_arm
 
     left, right = _pair(37)
     arm = _noisy_arm(37.0, np.random.default_rng(3), 0.0)
@@ -160,9 +161,12 @@ def test_match_arm_combines_with_the_given_disparity_and_drops_a_gross_match():
     out = match_arm(arm, left, right, 1, 920.0, 0.12, floor_px=1.0, given_sigma_px=2.0)
     assert out.disparity_matched.tolist() == [True, True, False]     # 9 px > 3 x hypot(1, 2): dropped
     assert np.array_equal(out.right_px[2], arm.right_px[2]) and np.isnan(out.disparity_sigma_px[2])
-    d = out.left_px[0, 0] - out.right_px[0, 0]
-    assert abs(d - (37.0 * 4 + 35.0) / 5) < 0.3                       # inverse variance: 1/1 and 1/4
-    assert abs(out.disparity_sigma_px[0] - 1.0 / np.sqrt(1.25)) < 1e-6
+    d = out.left_px[:2, 0] - out.right_px[:2, 0]
+    # the shoulder's match stands for the torso behind it: sigma 0.1 m of depth (1.24 px here), not 1 px
+    s_match = 37.0 ** 2 / (920.0 * 0.12) * SHOULDER_MATCH_SIGMA_M
+    w = np.array([1.0 / s_match ** 2, 0.25])
+    assert abs(d[0] - (37.0 * w[0] + 35.0 * w[1]) / w.sum()) < 0.3
+    assert abs(out.disparity_sigma_px[0] - 1.0 / np.sqrt(w.sum())) < 0.01        # 0.89 px with a 1 px floor
 
 def test_a_matched_joints_sigma_is_used_as_it_is_and_unset_keeps_the_keypoints():
     from dip3d_vehicle.config import load_params
@@ -177,7 +181,7 @@ def test_a_matched_joints_sigma_is_used_as_it_is_and_unset_keeps_the_keypoints()
     found = {}
     for profile in ("default", "paper"):
         pose = GivenKeypoints("right", keypoints)
-        on = {"pose.match_disparity": True} if profile == "default" else {}     # opt-in (off in every profile)
+        on = {"pose.match_disparity": True} if profile == "default" else {}     # on in default, off in paper
         perception = Perception(rig, load_params(profile, overrides=on), pose)
         found[profile] = perception.estimate_arm(left, right)
     given, matched = found["paper"], found["default"]
