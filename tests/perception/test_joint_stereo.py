@@ -230,3 +230,44 @@ def test_the_simulated_divers_joints_match_to_under_a_pixel():
     assert np.mean(np.isfinite(matched_err[:, 1:])) >= 0.8, matched_err
     assert np.nanmedian(matched_err[:, 1:]) < 1.0 < np.median(given_err[:, 1:]), (matched_err, given_err)
     assert dataclasses.is_dataclass(out)
+
+
+NEAR_SCENE = {  # the earlier 1-3 m table's scene 7 (seed0 1000): the shoulder's patch matches the torso behind it
+    "base": "paper_pool", "track_line": None, "pose_source": {"noise_px": 0.0, "dropout": 0.0},
+    "diver": {"positions": [{"name": "g", "range_m": 2.6415, "bearing_deg": -23.5089, "depth_m": 1.0}], "target": 4},
+    "placards": [{"id": 1, "range_m": 1.8996, "bearing_deg": 11.1575, "depth_m": 1.25, "size_m": 0.3},
+                 {"id": 2, "range_m": 2.8880, "bearing_deg": 11.8178, "depth_m": 0.8, "size_m": 0.3},
+                 {"id": 3, "range_m": 2.5592, "bearing_deg": 30.0845, "depth_m": 1.2605, "size_m": 0.3},
+                 {"id": 4, "range_m": 2.0310, "bearing_deg": 21.9195, "depth_m": 1.3347, "size_m": 0.3}]}
+
+
+def test_a_matched_shoulder_counts_as_the_torso_behind_it(tmp_path):
+    """Exact keypoints on a rendered 1-3 m scene: the shoulder's raw match lies 2-4 px behind the joint (the
+    torso); combined with 0.1 m of depth doubt it moves the shoulder less than a 1 px sigma would, while
+    the elbow and wrist keep their sub-pixel matches."""
+    import yaml
+
+    from dip3d_vehicle.perception.joint_stereo import joint_disparities, match_arm
+    from dip3d_vehicle.perception.keypoints_file import GivenKeypoints
+    from sitl.render import StereoRenderer
+    from sitl.scenario import load_scenario
+
+    path = tmp_path / "near.yaml"
+    path.write_text(yaml.safe_dump(NEAR_SCENE))
+    scenario = load_scenario(str(path), 1023)
+    with StereoRenderer(scenario) as renderer:
+        frame = renderer.render(*scenario.initial_vehicle_pose, 2.0)
+    rig = scenario.rig()
+    left, right = rig.rectify(frame.left, frame.right)
+    arm = GivenKeypoints("right", frame.meta["keypoints_truth"]).estimate(left, right, rig)
+    truth = arm.left_px[:, 0] - arm.right_px[:, 0]
+    raw = joint_disparities(left, right, arm.left_px, float(np.median(truth)), rig.disparity_sign, rig.focal_px,
+                            rig.baseline_m)
+    assert raw.matched[0] and 2.0 < truth[0] - raw.disparity_px[0] < 4.0, (truth, raw.disparity_px)
+    given = 1.41                                                  # sqrt(2) x the 1 px of exact keypoints
+    out = match_arm(arm, left, right, rig.disparity_sign, rig.focal_px, rig.baseline_m, 1.0, given)
+    err = np.abs(out.left_px[:, 0] - out.right_px[:, 0] - truth)
+    w = 1.0 / given ** 2
+    one_px = (truth[0] - raw.disparity_px[0]) * 1.0 / (1.0 + w)    # the shoulder's error with a 1 px match sigma
+    assert err[0] < 0.7 * one_px and err[0] < 1.5, (err, one_px)
+    assert np.all(err[1:] < 1.0), err
