@@ -33,7 +33,6 @@ def test_held_arm_is_the_mean_of_its_window():
     assert len(held) == 1
 
 
-
 def test_a_held_arm_keeps_a_matched_disparity_only_where_every_frame_matched():
     import dataclasses
 
@@ -47,6 +46,7 @@ def test_a_held_arm_keeps_a_matched_disparity_only_where_every_frame_matched():
     assert mean.disparity_sigma_px[0] == 2.5 and mean.disparity_sigma_px[2] == 0.5   # the largest of the window
     held.add(_arm(500.0))                                                            # given keypoints, not matched
     assert held.mean().disparity_matched is None
+
 
 def test_decide_held_leaves_undecidable_frames_alone():
     from dip3d_vehicle.perception.pipeline import PerceptionResult

@@ -151,7 +151,6 @@ def test_match_arm_keeps_what_it_cannot_match():
         assert np.array_equal(out.right_px[1], arm.right_px[1]) and np.isnan(out.disparity_sigma_px[1])
 
 
-
 def test_match_arm_combines_with_the_given_disparity_and_drops_a_gross_match():
     from dip3d_vehicle.perception.joint_stereo import SHOULDER_MATCH_SIGMA_M, match_arm
 
@@ -167,6 +166,7 @@ def test_match_arm_combines_with_the_given_disparity_and_drops_a_gross_match():
     w = np.array([1.0 / s_match ** 2, 0.25])
     assert abs(d[0] - (37.0 * w[0] + 35.0 * w[1]) / w.sum()) < 0.3
     assert abs(out.disparity_sigma_px[0] - 1.0 / np.sqrt(w.sum())) < 0.01        # 0.89 px with a 1 px floor
+
 
 def test_a_matched_joints_sigma_is_used_as_it_is_and_unset_keeps_the_keypoints():
     from dip3d_vehicle.config import load_params

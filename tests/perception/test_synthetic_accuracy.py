@@ -133,8 +133,12 @@ def scenes(tmp: Path, n_scenes: int, near: bool, seed0: int, margin_deg: float =
                 return
 
 
-def scene_counts(tmp: Path, n_scenes: int, near: bool, draws: int, seed0: int = 0, margin_deg: float = 0.0):
-    """Yield (pointing margin deg, {profile: {noise: [correct, trials]}}) per generated scene."""
+def scene_counts(tmp: Path, n_scenes: int, near: bool, draws: int, seed0: int = 0, margin_deg: float = 0.0,
+                 overrides=()):
+    """Yield (pointing margin deg, {profile: {noise: [correct, trials]}}) per generated scene.
+
+    ``overrides``: ``KEY=VALUE`` parameters for both profiles (as ``scene_families.tally_family``'s).
+    """
     for k, (scenario, frame) in enumerate(scenes(tmp, n_scenes, near, seed0, margin_deg)):
         counts = {p: {n: [0, 0] for n in NOISE_PX} for p in ("paper", "default")}
         truth = frame.meta["keypoints_truth"]
@@ -142,7 +146,7 @@ def scene_counts(tmp: Path, n_scenes: int, near: bool, draws: int, seed0: int = 
         rig = scenario.rig()
         left_rect, right_rect = rig.rectify(frame.left, frame.right)
         for profile in ("paper", "default"):
-            params = load_params(profile)
+            params = load_params(profile, overrides=overrides)
             pose = GivenKeypoints("right", truth)
             perception = Perception(rig, params, pose)
             cands = perception.detector.detect(left_rect, right_rect, pose.estimate(left_rect, right_rect, rig), rig)
