@@ -198,3 +198,20 @@ def test_right_camera_is_baseline_to_the_right():
     right = right_camera_pose(left, sc.camera.R, sc.camera.T)
     offset = left.to_cam(right.centre_w)[0]
     assert offset == pytest.approx([0.12, 0.0, 0.0], abs=1e-9)
+
+
+def test_near_miss_puts_a_decoy_beside_the_undetectable_target_from_both_diver_positions():
+    """The decoy (placard 4) stands 8.5-11.5 deg from the 4 cm target as seen from the shoulder, farther away."""
+    seen = set()
+    for seed in range(8):
+        sc = load_scenario("near_miss", seed)
+        target = np.asarray(sc.placard(sc.target_id).centre_ned_m)
+        decoy = np.asarray(sc.placard(4).centre_ned_m)
+        shoulder = sc.diver.joints(target, exact=True)["shoulder"]
+        a, b = target - shoulder, decoy - shoulder
+        angle_deg = math.degrees(math.acos(float(a @ b) / float(np.linalg.norm(a) * np.linalg.norm(b))))
+        assert sc.target_id == 2 and sc.placard(2).size_m == pytest.approx(0.04)
+        assert 8.5 <= angle_deg <= 11.5, (seed, angle_deg)
+        assert np.linalg.norm(b) > np.linalg.norm(a) + 0.5
+        seen.add(sc.diver.position_name)
+    assert seen == {"2", "3"}
