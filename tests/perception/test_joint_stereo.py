@@ -181,7 +181,7 @@ def test_a_matched_joints_sigma_is_used_as_it_is_and_unset_keeps_the_keypoints()
     found = {}
     for profile in ("default", "paper"):
         pose = GivenKeypoints("right", keypoints)
-        on = {"pose.match_disparity": True} if profile == "default" else {}     # on in default, off in paper
+        on = {"pose.match_disparity": True} if profile == "default" else {}     # opt-in: on here for default only
         perception = Perception(rig, load_params(profile, overrides=on), pose)
         found[profile] = perception.estimate_arm(left, right)
     given, matched = found["paper"], found["default"]

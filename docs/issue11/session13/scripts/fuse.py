@@ -18,17 +18,24 @@ from types import SimpleNamespace as NS
 import numpy as np
 
 sys.path.insert(0, ".")
+from behaviours.blackboard import BehaviourConfig  # noqa: E402
 from behaviours.fusion import PointFusion  # noqa: E402
 
-def read_lines(path: str):
-    """Return the lines of a points file, gzipped (.gz) or not."""
-    opener = gzip.open if path.endswith(".gz") else open
-    with opener(path, "rt") as fh:
-        return fh.readlines()
+
+def load_points(paths: list[str]) -> list[dict]:
+    """Return the points of ``points.py`` files, gzipped (.gz) or not."""
+    out = []
+    for path in paths:
+        with (gzip.open if path.endswith(".gz") else open)(path, "rt") as fh:
+            out += [json.loads(line) for line in fh if line.strip()]
+    return out
 
 
-BASE = dict(radius_m=0.3, temper=0.5, floor_p=0.02, no_objects_none_p=0.8, max_effective_frames=4.0,
-            min_shared_posterior=0.5, shared_rule="always")
+_C = BehaviourConfig()
+BASE = dict(radius_m=_C.vote_radius_m, temper=_C.fusion_temper, floor_p=_C.fusion_floor_p,
+            no_objects_none_p=_C.fusion_no_objects_none_p, max_effective_frames=_C.fusion_max_effective_frames,
+            min_shared_posterior=_C.fusion_min_shared_posterior, shared_rule=_C.fusion_shared_rule)
+"""PointFusion's arguments as the mission builds them from the behaviour defaults."""
 
 
 def fake_result(rec: dict):
@@ -98,13 +105,13 @@ def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("files", nargs="+")
     ap.add_argument("--rule", action="append", default=[])
-    ap.add_argument("--min-posterior", type=float, default=0.9)
-    ap.add_argument("--min-led", type=int, default=3)
-    ap.add_argument("--vote-frames", type=int, default=4)
+    ap.add_argument("--min-posterior", type=float, default=_C.fusion_min_posterior)
+    ap.add_argument("--min-led", type=int, default=_C.min_votes)
+    ap.add_argument("--vote-frames", type=int, default=_C.vote_frames)
     ap.add_argument("--frames", type=int, default=0, help="use only the first N frames of each point")
     ap.add_argument("--scenes", type=int, default=0, help="use only each family's first N scenes")
     a = ap.parse_args()
-    points = [json.loads(line) for f in a.files for line in read_lines(f) if line.strip()]
+    points = load_points(a.files)
     if a.scenes:
         points = [p for p in points if p["scene"] < a.scenes]
     if a.frames:

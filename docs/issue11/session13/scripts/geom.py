@@ -12,9 +12,9 @@ import numpy as np
 
 sys.path.insert(0, "tests/perception")
 import scene_families as sf  # noqa: E402
+sys.path.insert(0, "docs/issue11/session13/scripts")
 from dip3d_vehicle.config import load_params  # noqa: E402
-from dip3d_vehicle.perception.keypoints_file import GivenKeypoints  # noqa: E402
-from dip3d_vehicle.perception.pipeline import Perception  # noqa: E402
+from points import SceneRun  # noqa: E402
 
 
 def main() -> None:
@@ -22,16 +22,7 @@ def main() -> None:
     params = load_params("default", overrides=tuple(sys.argv[4:]))
     with tempfile.TemporaryDirectory() as tmp:
         for k, scene in enumerate(sf.scenes(Path(tmp), fam, n, seed0)):
-            truth = scene.frame.meta["keypoints_truth"]
-            rig = scene.scenario.rig()
-            L, R = rig.rectify(scene.frame.left, scene.frame.right)
-            pose = GivenKeypoints("right", truth)
-            per = Perception(rig, params, pose)
-            base = per.detector.detect(L, R, pose.estimate(L, R, rig), rig)
-            pose.provide(sf.noisy(truth, 0.0, np.random.default_rng(0)))
-            res = per.check_arm(per.estimate_arm(L, R))
-            if res.status == "ok":
-                res = per.decide(res, per.add_corridor(L, R, res.arm, base))
+            res = SceneRun(scene, params).decide(0.0, np.random.default_rng(0))
             if res.arm3d is None or res.selection is None:
                 print(k, res.status)
                 continue

@@ -29,6 +29,26 @@ from dip3d_vehicle.perception.pipeline import Perception  # noqa: E402
 NOISE_PX = (1.0, 2.0, 4.0)
 
 
+class SceneRun:
+    """One rendered scene's rectified pair, truth keypoints and candidates, decided frame by frame."""
+
+    def __init__(self, scene, params) -> None:
+        self.truth = scene.frame.meta["keypoints_truth"]
+        self.rig = scene.scenario.rig()
+        self.left, self.right = self.rig.rectify(scene.frame.left, scene.frame.right)
+        self.pose = GivenKeypoints("right", self.truth)
+        self.perception = Perception(self.rig, params, self.pose)
+        self.base = self.perception.detector.detect(self.left, self.right,
+                                                    self.pose.estimate(self.left, self.right, self.rig), self.rig)
+
+    def decide(self, sigma_px: float, rng: np.random.Generator):
+        """Return the perception result of one frame with ``sigma_px`` of keypoint noise."""
+        per, L, R = self.perception, self.left, self.right
+        self.pose.provide(sf.noisy(self.truth, sigma_px, rng))
+        res = per.check_arm(per.estimate_arm(L, R))
+        return per.decide(res, per.add_corridor(L, R, res.arm, self.base)) if res.status == "ok" else res
+
+
 def on_target(scene, obj, rig) -> bool:
     """Return True when an object's left-image point lies on the pointed placard."""
     px = rig.to_original(np.asarray(obj.left_px, float)[None, :], "left")[0]
@@ -57,25 +77,17 @@ def main() -> None:
         for k, scene in enumerate(sf.scenes(Path(tmp), fam, n, seed0)):
             if k < skip:
                 continue
-            truth = scene.frame.meta["keypoints_truth"]
-            rig = scene.scenario.rig()
-            L, R = rig.rectify(scene.frame.left, scene.frame.right)
-            pose = GivenKeypoints("right", truth)
-            per = Perception(rig, params, pose)
-            base = per.detector.detect(L, R, pose.estimate(L, R, rig), rig)
+            run = SceneRun(scene, params)
             rng = np.random.default_rng(seed0 + k)
             for sigma in NOISE_PX:
                 for p in range(points):
                     held, recs = HeldArm(window), []
                     for _ in range(frames):
-                        pose.provide(sf.noisy(truth, sigma, rng))
-                        res = per.check_arm(per.estimate_arm(L, R))
-                        if res.status == "ok":
-                            res = per.decide(res, per.add_corridor(L, R, res.arm, base))
+                        res = run.decide(sigma, rng)
                         if res.status in ("ok", "nothing_on_ray") and res.arm is not None and window > 1:
                             held.add(res.arm)
-                            res = decide_held(per, held.mean(), len(held), res)
-                        recs.append(frame_record(scene, res, rig))
+                            res = decide_held(run.perception, held.mean(), len(held), res)
+                        recs.append(frame_record(scene, res, run.rig))
                     print(json.dumps({"family": fam, "scene": k, "band": scene.band, "noise": sigma, "point": p,
                                       "frames": recs}), flush=True)
 
