@@ -172,7 +172,8 @@ class Blackboard:
     perception core: a frame decided again with the point's held arm; None: frames as perceived).
     Outputs (written by the states): ``command`` (None = no motion), ``outbox``, ``chosen``,
     ``target``, ``errors``, ``arrived``; ``fusion`` (the current point's fused evidence) and
-    ``decision`` (its latest fused decision); ``look_step`` / ``second_looks`` (the planned second
+    ``decision`` (its latest fused decision), ``decided`` (every decision the mission acted on: a
+    target chosen or "nothing there", in order); ``look_step`` / ``second_looks`` (the planned second
     look and how many this point has had); ``close_in_step`` / ``close_ins`` (the planned advance
     toward a far diver and how many this point has had).
     """
@@ -192,6 +193,7 @@ class Blackboard:
     chosen: Vote | None = None
     fusion: PointFusion | None = None
     decision: FusedDecision | None = None
+    decided: list[FusedDecision] = field(default_factory=list)
     decide_held: Callable | None = None
     look_step: LookStep | None = None
     second_looks: int = 0

@@ -104,6 +104,10 @@ class FusedDecision:
         best, second: the two most probable keys (second may be None).
         frames: frames fused.
         reason: one line.
+        one_look: the best hypothesis' posterior with the frames counted as ONE look (None: no
+            frame). The frames of a point share the diver's pointing error, so this, not
+            ``posterior[best]``, is what the point says about it once: a steady lean of 0.8 per
+            frame fuses to ~1.0 but stays 0.8 here (issue 11's near_miss).
     """
 
     kind: str
@@ -113,6 +117,7 @@ class FusedDecision:
     second: str | None
     frames: int
     reason: str
+    one_look: float | None = None
 
     def summary(self) -> str:
         """Return the posterior as text, best first, e.g. ``o1 0.93, none 0.05, o2 0.02``."""
@@ -275,24 +280,25 @@ class PointFusion:
         post = self.posterior()
         ranked = sorted(post, key=post.get, reverse=True)
         best, second = ranked[0], (ranked[1] if len(ranked) > 1 else None)
+        one = self.posterior(1.0 / n)[best]
         led = self.none_led if best == NONE else next(h.led for h in self.hypotheses if h.key == best)
         if post[best] < min_posterior:
             why = f"fused {best} {post[best]:.2f} < {min_posterior:g} over {n} frames"
-            return FusedDecision("undecided", None, post, best, second, n, why)
+            return FusedDecision("undecided", None, post, best, second, n, why, one)
         if led < min_led:
             why = f"{best} led {led} of {n} frames (< {min_led})"
-            return FusedDecision("undecided", None, post, best, second, n, why)
-        if self.shared_error and best != NONE:
-            shared = self.posterior(1.0 / n)[best]
-            if shared < self.min_shared_posterior:
-                cause = "the pose model's and the diver's pointing error" if self.pose_error else "the diver's pointing error"
-                why = (f"{best} {shared:.2f} < {self.min_shared_posterior:g} with the {n} frames counted as one "
-                       f"(they share {cause})")
-                return FusedDecision("undecided", None, post, best, second, n, why)
+            return FusedDecision("undecided", None, post, best, second, n, why, one)
+        if self.shared_error and best != NONE and one < self.min_shared_posterior:
+            cause = "the pose model's and the diver's pointing error" if self.pose_error else "the diver's pointing error"
+            why = (f"{best} {one:.2f} < {self.min_shared_posterior:g} with the {n} frames counted as one "
+                   f"(they share {cause})")
+            return FusedDecision("undecided", None, post, best, second, n, why, one)
+        looks = f"{one:.2f} counted as one look"
         if best == NONE:
-            return FusedDecision("none", None, post, best, second, n, f"nothing detected: fused {post[best]:.2f}")
+            return FusedDecision("none", None, post, best, second, n, f"nothing detected: fused {post[best]:.2f}, {looks}",
+                                 one)
         h = next(h for h in self.hypotheses if h.key == best)
-        return FusedDecision("object", h, post, best, second, n, f"fused {post[best]:.2f} over {n} frames")
+        return FusedDecision("object", h, post, best, second, n, f"fused {post[best]:.2f} over {n} frames, {looks}", one)
 
     def hypothesis(self, key: str) -> Hypothesis | None:
         """Return the object hypothesis with this key, or None."""

@@ -187,6 +187,7 @@ class SelectTarget(_ArmWatch):
         if decision.kind == "undecided":
             return None
         _tell_decision(bb, decision)
+        bb.decided.append(decision)
         if decision.kind == "none":
             return "nothing_there"
         w = bb.fusion.as_vote(decision.winner)
@@ -194,7 +195,8 @@ class SelectTarget(_ArmWatch):
         bb.tracker.start(w.obj, w.candidates, w.stamp_s)
         bb.target = bb.tracker.last
         xyz = ", ".join(f"{v:.2f}" for v in w.xyz_m)
-        bb.say(f"target chosen at ({xyz}) m, p {decision.posterior[decision.best]:.2f}", pilot=True)
+        bb.say(f"target chosen at ({xyz}) m, p {decision.posterior[decision.best]:.2f} "
+               f"(one look {decision.one_look:.2f})", pilot=True)
         bb.say(f"votes: {self.box.summary()}")
         return "winner"
 

@@ -21,7 +21,11 @@ it was not moving), and motion commands received after that (must be 0).
 
 ``mission``: a scenario over seeds (arrived at the pointed placard / at a wrong one / abstained), with
 the time from the point (the arm fully raised) to the decision and whether ``nothing_there`` or a
-second try (``ambiguous``) happened.
+second try (``ambiguous``) happened. Each run also gives the first decision's fused posterior and
+its posterior with the point's frames counted as one look (``behaviours/fusion.py``): the frames
+share the diver's pointing error, so the one-look figure is what the point said once; the summary
+gives its range over the arrived and over the wrong runs (issue 11: where they overlap, no
+threshold on it separates the two).
 """
 
 from __future__ import annotations
@@ -161,9 +165,13 @@ def mission_trial(args: tuple) -> dict:
     states = [s["state"] for s in result.states]
     outcome = ("wrong" if result.chosen_id is not None and result.chosen_id != result.target_id and
                "acknowledge" in states else "arrived" if result.reached else "abstained")
+    first = sim.mission.bb.decided[0] if sim.mission.bb.decided else None
     return {"seed": seed, "position": result.diver_position, "target_id": result.target_id,
             "chosen_id": result.chosen_id, "outcome": outcome, "arrived": result.arrived,
             "time_to_decision_s": None if decided is None else round(decided - raised, 2),
+            "decision": None if first is None else first.kind,
+            "decision_posterior": None if first is None else round(first.posterior[first.best], 4),
+            "decision_one_look": None if first is None else round(first.one_look, 4),
             "ambiguous_round_trips": states.count("confirm_point") - 1, "nothing_there": "nothing_there" in states,
             "second_looks": states.count("second_look"), "second_look_displacement_m": _look_displacement(sim),
             "second_look_resolved": _resolved_after_look(states), "time_to_arrive_s": result.time_to_arrive_s,
@@ -284,7 +292,20 @@ def _summary(which: str, rows: list[dict]) -> dict:
             "ambiguous_round_trips": sum(max(0, r["ambiguous_round_trips"]) for r in rows),
             "second_look_runs": sum(r.get("second_looks", 0) > 0 for r in rows),
             "second_look_resolved": sum(bool(r.get("second_look_resolved")) for r in rows),
-            "second_look_max_displacement_m": max((r.get("second_look_displacement_m", 0.0) for r in rows), default=0.0)}
+            "second_look_max_displacement_m": max((r.get("second_look_displacement_m", 0.0) for r in rows), default=0.0),
+            "one_look_arrived": _span(r.get("decision_one_look") for r in rows if r["outcome"] == "arrived"),
+            "one_look_wrong": _span(r.get("decision_one_look") for r in rows if r["outcome"] == "wrong")}
+
+
+def _span(values) -> list[float] | None:
+    """Return [min, max] of the values that are not None, or None.
+
+    Examples:
+        >>> _span([0.8, None, 0.95, 0.7]), _span([None])
+        ([0.7, 0.95], None)
+    """
+    got = [v for v in values if v is not None]
+    return [min(got), max(got)] if got else None
 
 
 if __name__ == "__main__":

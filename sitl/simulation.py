@@ -305,6 +305,7 @@ class SimResult:
     safety: dict = field(default_factory=dict)
     counters: dict = field(default_factory=dict)
     pose_source: dict = field(default_factory=dict)
+    decisions: list[dict] = field(default_factory=list)
 
     def to_json(self) -> dict:
         """Return the JSON object of ``dip3d-vehicle sitl --json`` (``outcome``: see sitl/outcome.py)."""
@@ -314,6 +315,7 @@ class SimResult:
             "seed", "diver_position", "reached", "time_to_arrive_s", "final_range_error_m",
             "final_pixel_error_px", "range_at_arrival_m", "range_error_at_arrival_m", "wall_time_s", "counters")}
         out["pose_source"] = self.pose_source
+        out["decisions"] = self.decisions
         if self.fault is not None:
             out["fault"], out["safety"] = self.fault, self.safety
         return out
@@ -593,7 +595,9 @@ class Simulation:
                       "statustext_sent": self.controller.sent["statustext"],
                       "received_commands": len(self.received),
                       "received_motion": sum(r.motion for r in self.received)},
-            pose_source={k: v for k, v in self.pose.counts.items() if v})
+            pose_source={k: v for k, v in self.pose.counts.items() if v},
+            decisions=[{"kind": d.kind, "frames": d.frames, "posterior": round(d.posterior[d.best], 4),
+                        "one_look": round(d.one_look, 4)} for d in bb.decided])
 
     def safety(self) -> dict:
         """Return the safety numbers of a fault run (times relative to the fault / its detection)."""

@@ -101,6 +101,24 @@ def test_nothing_detected_wins_and_an_object_needs_frames_that_chose_it():
     assert d.kind == "undecided" and "led 1" in d.reason
 
 
+def test_a_decision_states_what_the_point_says_as_one_look_beside_the_fused_posterior():
+    """Issue 11's near_miss: every frame gives a decoy 0.80 and "nothing detected" 0.20; the fusion
+    makes that ~1.00, but the frames share the diver's pointing error, and counted as one look the
+    point still says 0.80. The decision carries both (the pilot's message and the campaigns report it)."""
+    f = PointFusion(0.3)
+    for _ in range(7):
+        f.add(_frame({1.0: 0.80}, 0.20), 0.0)
+    d = f.decide(0.9, 3)
+    assert d.kind == "object" and d.posterior[d.best] > 0.99
+    assert abs(d.one_look - 0.80) < 0.01 and "0.80 counted as one look" in d.reason
+    f = PointFusion(0.3)
+    for _ in range(6):
+        f.add(_frame({1.0: 0.1, 2.0: 0.05}, 0.85), 0.0)
+    d = f.decide(0.9, 3)
+    assert d.kind == "none" and 0.8 < d.one_look < d.posterior[NONE] and "counted as one look" in d.reason
+    assert PointFusion(0.3).decide(0.9, 3).one_look is None  # no frame: nothing to say
+
+
 def test_frames_without_objects_count_for_nothing_and_unusable_frames_are_skipped():
     f = PointFusion(0.3, no_objects_none_p=0.8)
     part = f.add(_frame({}, 0.0), 0.0)

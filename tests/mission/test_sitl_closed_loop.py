@@ -71,6 +71,9 @@ def test_paper_pool_mission_reaches_the_pointed_placard():
     sources = result.to_json()["pose_source"]  # frames per pose source, as sitl --json reports them
     frames = result.counters["frames"]  # the pose runs on tracked frames too (the stop gesture is watched)
     assert sum(sources.values()) == frames["full"] + frames.get("track", 0) > 0
+    decided = result.to_json()["decisions"]  # the decision it acted on: fused, and its frames counted as one look
+    assert [d["kind"] for d in decided] == ["object"] and decided[0]["frames"] >= 3
+    assert 0.5 <= decided[0]["one_look"] <= decided[0]["posterior"] <= 1.0
 
 
 @pytest.mark.slow
