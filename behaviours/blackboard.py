@@ -7,6 +7,7 @@ lights, the chosen target). Values that cross into the loop are small frozen dat
 
 from __future__ import annotations
 
+from collections import deque
 from dataclasses import dataclass, field, fields
 from typing import Any, Callable, Mapping
 
@@ -24,6 +25,9 @@ from .second_look import LookStep
 from .tracker import TargetTracker, TrackedTarget
 
 __all__ = ["BehaviourConfig", "TrackFrame", "Observation", "StatusText", "SetServo", "Blackboard"]
+
+DECIDED_KEPT = 64
+"""Decisions the blackboard keeps a record of (``Blackboard.decided``): bounded for a long onboard run."""
 
 SEVERITY = {"critical": 2, "warning": 4, "notice": 5, "info": 6}
 """MAV_SEVERITY numbers for StatusText."""
@@ -172,8 +176,9 @@ class Blackboard:
     perception core: a frame decided again with the point's held arm; None: frames as perceived).
     Outputs (written by the states): ``command`` (None = no motion), ``outbox``, ``chosen``,
     ``target``, ``errors``, ``arrived``; ``fusion`` (the current point's fused evidence) and
-    ``decision`` (its latest fused decision), ``decided`` (every decision the mission acted on: a
-    target chosen or "nothing there", in order); ``look_step`` / ``second_looks`` (the planned second
+    ``decision`` (its latest fused decision), ``decided`` (a small record, ``FusedDecision.record``,
+    of each decision the mission acted on: a target chosen or "nothing there", in order; the last
+    ``DECIDED_KEPT``); ``look_step`` / ``second_looks`` (the planned second
     look and how many this point has had); ``close_in_step`` / ``close_ins`` (the planned advance
     toward a far diver and how many this point has had).
     """
@@ -193,7 +198,7 @@ class Blackboard:
     chosen: Vote | None = None
     fusion: PointFusion | None = None
     decision: FusedDecision | None = None
-    decided: list[FusedDecision] = field(default_factory=list)
+    decided: deque = field(default_factory=lambda: deque(maxlen=DECIDED_KEPT))
     decide_held: Callable | None = None
     look_step: LookStep | None = None
     second_looks: int = 0

@@ -119,6 +119,13 @@ class FusedDecision:
     reason: str
     one_look: float | None = None
 
+    def record(self, t_s: float) -> dict:
+        """Return a small record of the decision at ``t_s`` seconds: kind, frames, fused and one-look posterior."""
+        p = self.posterior.get(self.best) if self.best is not None else None
+        return {"t_s": round(t_s, 3), "kind": self.kind, "frames": self.frames,
+                "posterior": None if p is None else round(p, 4),
+                "one_look": None if self.one_look is None else round(self.one_look, 4)}
+
     def summary(self) -> str:
         """Return the posterior as text, best first, e.g. ``o1 0.93, none 0.05, o2 0.02``."""
         return ", ".join(f"{k} {p:.2f}" for k, p in sorted(self.posterior.items(), key=lambda kv: -kv[1]))

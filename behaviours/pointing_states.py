@@ -187,7 +187,7 @@ class SelectTarget(_ArmWatch):
         if decision.kind == "undecided":
             return None
         _tell_decision(bb, decision)
-        bb.decided.append(decision)
+        bb.decided.append(decision.record(bb.now_s))
         if decision.kind == "none":
             return "nothing_there"
         w = bb.fusion.as_vote(decision.winner)

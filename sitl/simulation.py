@@ -596,8 +596,7 @@ class Simulation:
                       "received_commands": len(self.received),
                       "received_motion": sum(r.motion for r in self.received)},
             pose_source={k: v for k, v in self.pose.counts.items() if v},
-            decisions=[{"kind": d.kind, "frames": d.frames, "posterior": round(d.posterior[d.best], 4),
-                        "one_look": round(d.one_look, 4)} for d in bb.decided])
+            decisions=list(bb.decided))
 
     def safety(self) -> dict:
         """Return the safety numbers of a fault run (times relative to the fault / its detection)."""

@@ -111,6 +111,8 @@ def test_a_decision_states_what_the_point_says_as_one_look_beside_the_fused_post
     d = f.decide(0.9, 3)
     assert d.kind == "object" and d.posterior[d.best] > 0.99
     assert abs(d.one_look - 0.80) < 0.01 and "0.80 counted as one look" in d.reason
+    rec = d.record(2.5)  # what the blackboard keeps (bounded) and sitl --json reports
+    assert rec["kind"] == "object" and rec["frames"] == 7 and rec["t_s"] == 2.5 and rec["one_look"] < rec["posterior"]
     f = PointFusion(0.3)
     for _ in range(6):
         f.add(_frame({1.0: 0.1, 2.0: 0.05}, 0.85), 0.0)
