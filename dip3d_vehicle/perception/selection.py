@@ -30,8 +30,6 @@ from dataclasses import dataclass
 from typing import Mapping
 
 import numpy as np
-from scipy.sparse import coo_matrix
-from scipy.sparse.csgraph import connected_components
 from scipy.spatial import cKDTree
 
 from .calibration import StereoRig
@@ -149,11 +147,24 @@ def _groups(labels: np.ndarray) -> list[np.ndarray]:
 
 
 def _components(n: int, pairs: np.ndarray) -> np.ndarray:
-    """Return connected-component labels of n nodes linked by (k, 2) index pairs."""
+    """Return connected-component labels of n nodes linked by (k, 2) index pairs.
+
+    Labels are numbered by each component's lowest node (as scipy's ``connected_components``):
+    every node takes the lowest label among its links, with pointer jumping, until nothing changes.
+    """
+    labels = np.arange(n)
     if len(pairs) == 0:
-        return np.arange(n)
-    graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(n, n))
-    return connected_components(graph, directed=False)[1]
+        return labels
+    i, j = pairs[:, 0], pairs[:, 1]
+    while True:
+        low = np.minimum(labels[i], labels[j])
+        new = labels.copy()
+        np.minimum.at(new, i, low)
+        np.minimum.at(new, j, low)
+        new = new[new]
+        if np.array_equal(new, labels):
+            return np.unique(labels, return_inverse=True)[1]
+        labels = new
 
 
 def _centres(candidates: Candidates, Q: np.ndarray, groups: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
@@ -314,9 +325,8 @@ class _PointingFit:
         x = np.maximum(np.vstack([measured, self.starts(obj_rays, obj_depth)]), 0.05)
         args = (np.vstack([obj_rays, obj_rays]), np.r_[obj_depth, obj_depth], np.r_[obj_sigma, obj_sigma],
                 np.concatenate([obj_shape, obj_shape]))
-        stacked = tuple(np.concatenate([a] * x.shape[1]) for a in args)  # the Jacobian's P copies in one call
-        cost = _levenberg_marquardt(lambda z: self.residuals(z, *(args if len(z) == len(x) else stacked)),
-                                    x, iterations)
+        stacked = tuple(np.concatenate([a] * (x.shape[1] + 1)) for a in args)  # a point and its P shifts, one call
+        cost = _levenberg_marquardt(lambda z: self.residuals(z, *stacked), x, iterations)
         return np.minimum(cost[:n], cost[n:])
 
 
@@ -343,27 +353,37 @@ def object_shape(points_m: np.ndarray, centre_m: np.ndarray, k: int = SHAPE_POIN
 def _levenberg_marquardt(fun, x: np.ndarray, iterations: int) -> np.ndarray:
     """Minimise sum(fun(x)**2) for a batch of independent problems x (B, P); return final costs.
 
-    ``fun`` must also accept k stacked copies of the batch (k B, P): the forward-difference
-    Jacobian evaluates all P perturbed copies in one call.
+    ``fun`` must also accept k stacked copies of the batch (k B, P): each trial point and its P
+    forward-difference shifts are evaluated in one call (P + 1 copies), so an iteration costs one
+    call; a rejected trial's Jacobian is dropped and the current point's kept (the same iterates
+    as evaluating the Jacobian at the current point each iteration).
     """
-    r = fun(x)
+    n, p = x.shape
+    eye = np.eye(p)
+
+    def evaluate(z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Return the residuals (B, R) at z and their forward-difference Jacobian (B, R, P)."""
+        step = 1e-5 * np.maximum(np.abs(z), 1.0)
+        shifted = (z[None] + eye[:, None, :] * step[None]).reshape(-1, p)  # the P copies, stacked
+        out = fun(np.concatenate([z, shifted]))
+        r = out[:n]
+        jac = np.moveaxis((out[n:].reshape((p,) + r.shape) - r) / step.T[:, :, None], 0, 2)
+        return r, jac
+
+    r, jac = evaluate(x)
     cost = np.sum(r * r, axis=1)
-    mu = np.full(len(x), 1e-2)
-    eye = np.eye(x.shape[1])
-    stalled = np.zeros(len(x), int)
+    mu = np.full(n, 1e-2)
+    stalled = np.zeros(n, int)
     for _ in range(iterations):
-        step = 1e-5 * np.maximum(np.abs(x), 1.0)
-        shifted = (x[None] + eye[:, None, :] * step[None]).reshape(-1, x.shape[1])  # the P copies, stacked
-        jac = np.moveaxis((fun(shifted).reshape((x.shape[1],) + r.shape) - r) / step.T[:, :, None], 0, 2)
         jtj = np.einsum("bri,brj->bij", jac, jac)
         grad = np.einsum("bri,br->bi", jac, r)
         damp = jtj + mu[:, None, None] * (eye * np.diagonal(jtj, axis1=1, axis2=2)[:, None, :] + 1e-9 * eye)
         x_new = np.maximum(x - np.linalg.solve(damp, grad[..., None])[..., 0], 0.05)
-        r_new = fun(x_new)
+        r_new, jac_new = evaluate(x_new)
         cost_new = np.sum(r_new * r_new, axis=1)
         better = cost_new < cost
         gain = np.where(better, cost - cost_new, 0.0)
-        x[better], r[better], cost[better] = x_new[better], r_new[better], cost_new[better]
+        x[better], r[better], cost[better], jac[better] = x_new[better], r_new[better], cost_new[better], jac_new[better]
         mu = np.where(better, mu * 0.3, mu * 10.0)
         stalled = np.where(gain <= 1e-3 * (1.0 + cost), stalled + 1, 0)
         if np.all(stalled >= 2):

@@ -306,3 +306,36 @@ def test_a_pose_models_own_landmark_error_barely_matters_for_an_arm_seen_at_full
     pts = np.vstack([cluster(target, 15, 0.08, seed=8), cluster(other, 15, 0.08, seed=9)])
     sel, _, _ = _select(dataclasses.replace(arm, keypoint_sigma_m=0.05), pts)
     assert sel.index is not None and not sel.ambiguous and sel.confidence > 0.8
+
+
+def test_feature_chains_are_labelled_like_scipy_connected_components():
+    """The grouping's own component labelling numbers components by their lowest node, as scipy does."""
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+
+    from dip3d_vehicle.perception.selection import _components
+
+    rng = np.random.default_rng(3)
+    for n, k in ((1, 0), (5, 0), (40, 25), (300, 400), (300, 1200)):
+        pairs = rng.integers(0, n, size=(k, 2)) if k else np.zeros((0, 2), int)
+        graph = coo_matrix((np.ones(k), (pairs[:, 0], pairs[:, 1])), shape=(n, n))
+        assert np.array_equal(_components(n, pairs), connected_components(graph, directed=False)[1])
+    chain = np.c_[np.arange(199, 0, -1), np.arange(198, -1, -1)]  # one long chain, linked from its far end
+    assert np.array_equal(_components(200, chain), np.zeros(200, int))
+
+
+def test_batched_levenberg_marquardt_minimises_each_problem_on_its_own():
+    """Each problem of the batch reaches its own minimum, whatever the others do (one call per iteration)."""
+    from dip3d_vehicle.perception.selection import _levenberg_marquardt
+
+    target = np.array([[1.0, 2.0], [3.0, 0.5], [0.2, 4.0]])
+    calls = []
+
+    def fun(z: np.ndarray) -> np.ndarray:
+        calls.append(len(z))
+        t = np.tile(target, (len(z) // len(target), 1))
+        return np.c_[z - t, 0.1 * (z[:, :1] * z[:, 1:] - t[:, :1] * t[:, 1:])]
+
+    cost = _levenberg_marquardt(fun, np.full((3, 2), 5.0), 50)
+    assert np.all(cost < 1e-8)
+    assert set(calls) == {9}   # a point and its 2 shifts for each of the 3 problems, in one call
