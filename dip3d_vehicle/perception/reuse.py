@@ -49,7 +49,8 @@ from .images import grey
 from .threads import shared_pool
 from .values import ArmKeypoints, Candidates
 
-__all__ = ["CandidateReuse", "Views", "follow_pairs", "views_of", "inside_polygon", "polygon_cover"]
+__all__ = ["CandidateReuse", "Views", "follow_pairs", "views_of", "inside_polygon", "polygon_cover", "Anchor",
+           "SceneMotion"]
 
 LK_WINDOW_PX = 21
 """Lucas-Kanade window side, pixels (OpenCV's default)."""
@@ -82,39 +83,47 @@ def views_of(left_rect: np.ndarray, right_rect: np.ndarray) -> Views:
     return Views(grey(left_rect, copy=True), grey(right_rect, copy=True))  # kept across frames
 
 
-def _flow(prev: np.ndarray, cur: np.ndarray, pts: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def _flow(prev: np.ndarray, cur: np.ndarray, pts: np.ndarray, guess: np.ndarray | None = None
+          ) -> tuple[np.ndarray, np.ndarray]:
     """Return (new points, converged mask) of ``pts`` followed from one grey image to the next.
 
     Both images are cut to the points' bounding box widened by the flow's reach (the pyramids
-    OpenCV builds for every call cost in proportion to the area).
+    OpenCV builds for every call cost in proportion to the area). ``guess``: where the points are
+    expected in ``cur`` (the flow starts there), or None (where they were).
     """
     if len(pts) == 0:
         return np.zeros((0, 2)), np.zeros(0, bool)
     h, w = prev.shape[:2]
     reach = LK_WINDOW_PX * 2 ** LK_LEVELS
-    x0, y0 = np.maximum(np.floor(pts.min(axis=0)).astype(int) - reach, 0)
-    x1, y1 = np.minimum(np.ceil(pts.max(axis=0)).astype(int) + reach + 1, [w, h])
+    span = pts if guess is None else np.vstack([pts, guess])
+    x0, y0 = np.maximum(np.floor(span.min(axis=0)).astype(int) - reach, 0)
+    x1, y1 = np.minimum(np.ceil(span.max(axis=0)).astype(int) + reach + 1, [w, h])
     p0 = np.ascontiguousarray(pts - [x0, y0], np.float32).reshape(-1, 1, 2)
-    p1, status, err = cv2.calcOpticalFlowPyrLK(prev[y0:y1, x0:x1], cur[y0:y1, x0:x1], p0, None,
+    start = None if guess is None else np.ascontiguousarray(guess - [x0, y0], np.float32).reshape(-1, 1, 2)
+    p1, status, err = cv2.calcOpticalFlowPyrLK(prev[y0:y1, x0:x1], cur[y0:y1, x0:x1], p0, start,
                                                winSize=(LK_WINDOW_PX, LK_WINDOW_PX), maxLevel=LK_LEVELS,
-                                               criteria=_CRITERIA)
+                                               criteria=_CRITERIA,
+                                               flags=0 if guess is None else cv2.OPTFLOW_USE_INITIAL_FLOW)
     ok = (status.ravel() == 1) & (err.ravel() <= LK_MAX_RESIDUAL)
     return p1.reshape(-1, 2).astype(np.float64) + [x0, y0], ok
 
 
 def follow_pairs(prev: Views, cur: Views, cands: Candidates, row_tolerance_px: float,
-                 max_disparity_change_px: float) -> tuple[Candidates, np.ndarray]:
+                 max_disparity_change_px: float, guess: tuple[np.ndarray, np.ndarray] | None = None
+                 ) -> tuple[Candidates, np.ndarray]:
     """Return the matched pairs moved from ``prev`` to ``cur`` (every row) and which of them are still consistent.
 
     A pair survives when both flows converged, both points lie in the image, their rows agree within
     ``row_tolerance_px`` and its disparity change differs by at most ``max_disparity_change_px``
     from the median change of its ``NEIGHBOURS`` nearest pairs (``disparity_outliers``).
     Descriptors and sizes are carried over (they describe the same physical features).
+    ``guess``: where the pairs are expected in ``cur`` (left px, right px; the flows start there), or None.
     """
     if len(cands) == 0:
         return cands, np.zeros(0, bool)
-    left, ok_l = _flow(prev.left, cur.left, cands.left_px)
-    right, ok_r = _flow(prev.right, cur.right, cands.right_px)
+    guess_l, guess_r = (None, None) if guess is None else guess
+    left, ok_l = _flow(prev.left, cur.left, cands.left_px, guess_l)
+    right, ok_r = _flow(prev.right, cur.right, cands.right_px, guess_r)
     h, w = cur.left.shape[:2]
     inside = np.all((left >= 0) & (left <= [w - 1, h - 1]) & (right >= 0) & (right <= [w - 1, h - 1]), axis=1)
     same_row = np.abs(left[:, 1] - right[:, 1]) <= row_tolerance_px
@@ -149,6 +158,49 @@ def disparity_outliers(points_px: np.ndarray, change_px: np.ndarray, valid: np.n
         ref = np.nanmedian(near, axis=1)
     out = ~(np.abs(change_px - ref) <= tolerance_px)
     return out
+
+
+@dataclass(frozen=True)
+class Anchor:
+    """The followed main-pass pairs on the frame a background pass is computed on (rectified px)."""
+
+    ids: np.ndarray
+    left_px: np.ndarray
+    right_px: np.ndarray
+
+
+@dataclass(frozen=True)
+class SceneMotion:
+    """How pairs followed frame by frame moved since an earlier frame: the prediction for other points there.
+
+    A pass is taken K frames after its own frame and followed to the new frame in one flow step;
+    the camera may have moved tens of pixels by then (the flow then loses a fifth to a third of the
+    pairs, and the frame is computed afresh). The pairs followed meanwhile, one frame at a time,
+    tell how the scene moved: each of the pass's points is predicted to have moved as the median of
+    its ``NEIGHBOURS`` nearest followed pairs (left image; the same pairs' right-image motion for the
+    right point), and the flow starts there.
+    """
+
+    from_left_px: np.ndarray        # the followed pairs on the earlier frame, left image
+    shift_left_px: np.ndarray       # their motion since, left image
+    shift_right_px: np.ndarray      # and right image
+
+    @classmethod
+    def between(cls, anchor: "Anchor", ids: np.ndarray, left_px: np.ndarray, right_px: np.ndarray,
+                min_pairs: int = NEIGHBOURS) -> "SceneMotion | None":
+        """Return the motion of the anchor's pairs still followed (``ids`` at ``left_px`` / ``right_px``), or None if too few."""
+        _, a, b = np.intersect1d(anchor.ids, ids, assume_unique=True, return_indices=True)
+        if len(a) < min_pairs:
+            return None
+        return cls(anchor.left_px[a], left_px[b] - anchor.left_px[a], right_px[b] - anchor.right_px[a])
+
+    def moved(self, left_px: np.ndarray, right_px: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Return where pairs at ``left_px`` / ``right_px`` on the earlier frame are predicted now, pixels."""
+        k = min(NEIGHBOURS, len(self.from_left_px))
+        _, nn = cKDTree(self.from_left_px).query(left_px, k=k)
+        nn = nn.reshape(len(left_px), k)
+        return (left_px + np.median(self.shift_left_px[nn], axis=1),
+                right_px + np.median(self.shift_right_px[nn], axis=1))
 
 
 def inside_polygon(points_px: np.ndarray, poly: np.ndarray) -> np.ndarray:
@@ -211,6 +263,11 @@ class _Scan:
     wedge: np.ndarray | None
     counted: tuple[int, int]                # left columns whose pairs count for the lost fraction (not the margin)
     corridor_views: Views | None = None     # the views the corridor's points are in, when not ``views``
+    main_ids: np.ndarray | None = None      # each main pair's number within its pass (None: 0, 1, ...)
+
+    def ids(self) -> np.ndarray:
+        """Return each main pair's number within its pass (the same pair keeps it while followed)."""
+        return np.arange(len(self.main)) if self.main_ids is None else self.main_ids
 
 
 @dataclass
@@ -223,6 +280,7 @@ class _Job:
     future: Future | None = None         # the pieces started on the current frame
     scan: _Scan | None = None
     rescanned: bool = False              # the corridor was scanned afresh after this pass's frame: keep that one
+    anchor: Anchor | None = None         # the pairs followed on the pass's frame, to learn the motion since
 
 
 class CandidateReuse:
@@ -283,7 +341,10 @@ class CandidateReuse:
             job.due -= 1
             if job.due <= 0:
                 self._job = None
-                self._state = self._taken(job)       # followed from its own frame below, in one step
+                motion = self._motion_since(job.anchor)
+                self._state = self._taken(job)       # followed from its own frame in one step
+                self._scanned_now = False
+                return self._follow(cur, motion)
             else:                                    # this frame's share runs beside the frame's own work
                 job.future = shared_pool("reuse", 1).submit(_run_pieces, job, job.per_frame)
         self._scanned_now = False
@@ -300,20 +361,37 @@ class CandidateReuse:
             scan = _Scan(scan.views, scan.main, state.corridor, scan.cols, state.wedge, scan.counted, state.views)
         return scan
 
-    def _follow(self, cur: Views) -> bool:
-        """Follow the state's main and corridor matches into ``cur``; False when too many were lost."""
+    def _motion_since(self, anchor: Anchor | None) -> SceneMotion | None:
+        """Return how the followed pairs moved since a pass's frame (``anchor``) up to the last frame, or None."""
+        state = self._state
+        if anchor is None or state is None:
+            return None
+        return SceneMotion.between(anchor, state.ids(), state.main.left_px, state.main.right_px)
+
+    def _follow(self, cur: Views, motion: SceneMotion | None = None) -> bool:
+        """Follow the state's main and corridor matches into ``cur``; False when too many were lost.
+
+        ``motion``: the scene's motion since the state's frame (a pass taken K frames after its own).
+        """
         state = self._state
         n_main = len(state.main)
         both = state.main if state.corridor is None else state.main.stacked(state.corridor)
-        if state.corridor is None or state.corridor_views is None:
-            moved, keep = follow_pairs(state.views, cur, both, self.row_tolerance_px, self.max_disparity_change_px)
+        together = state.corridor is None or state.corridor_views is None
+        flowed = both if together else state.main     # the pairs followed from ``state.views``
+        guess = None if motion is None else motion.moved(flowed.left_px, flowed.right_px)
+        if together:
+            moved, keep = follow_pairs(state.views, cur, both, self.row_tolerance_px, self.max_disparity_change_px,
+                                       guess)
         else:                                        # main and corridor found on different frames
-            pairs = [follow_pairs(prev, cur, cands, self.row_tolerance_px, self.max_disparity_change_px)
-                     for prev, cands in ((state.views, state.main), (state.corridor_views, state.corridor))]
+            pairs = [follow_pairs(prev, cur, cands, self.row_tolerance_px, self.max_disparity_change_px, g)
+                     for prev, cands, g in ((state.views, state.main, guess),
+                                            (state.corridor_views, state.corridor, None))]
             moved, keep = pairs[0][0].stacked(pairs[1][0]), np.concatenate([pairs[0][1], pairs[1][1]])
         # pairs in the margin next to the diver (it moves with the diver) or near the border (they
-        # leave the view as the camera moves) do not tell whether the scene changed
-        x, y = both.left_px[:, 0], both.left_px[:, 1]
+        # leave the view as the camera moves: where they are predicted now) do not tell whether the
+        # scene changed
+        where = both.left_px if guess is None else np.vstack([guess[0], both.left_px[len(flowed):]])
+        x, y = where[:, 0], where[:, 1]
         h, w = cur.left.shape[:2]
         counted = ((x >= max(state.counted[0], EDGE_PX)) & (x < min(state.counted[1], w - EDGE_PX))
                    & (y >= EDGE_PX) & (y < h - EDGE_PX))
@@ -327,7 +405,8 @@ class CandidateReuse:
             self._state = None
             self._cancel()
             return False
-        self._state = _Scan(cur, main, corridor, state.cols, state.wedge, state.counted)
+        self._state = _Scan(cur, main, corridor, state.cols, state.wedge, state.counted,
+                            main_ids=state.ids()[keep[:n_main]])
         return True
 
     def main_candidates(self, arm: ArmKeypoints, rig: StereoRig) -> Candidates | None:
@@ -416,7 +495,9 @@ class CandidateReuse:
         if self._job is not None or self._views is None or self._state is None or self._scanned_now:
             return
         frames = max(self.interval_frames - 1, 1)        # the pass is taken on the K-th frame from now
-        self._job = _Job(iter(()), -(-PASS_PIECES // frames), self.interval_frames)
+        state = self._state
+        anchor = Anchor(state.ids(), state.main.left_px.copy(), state.main.right_px.copy())
+        self._job = _Job(iter(()), -(-PASS_PIECES // frames), self.interval_frames, anchor=anchor)
         self._job.pieces = self._full_pass(self._views, arm, rig, self._job)
         self.counts["refreshed"] += 1
 

@@ -285,3 +285,37 @@ def _near_edge(points: np.ndarray, poly: np.ndarray, dist_px: float) -> np.ndarr
     """Return which points lie within ``dist_px`` of the polygon's boundary."""
     contour = np.asarray(poly, np.float32).reshape(-1, 1, 2)
     return np.array([abs(cv2.pointPolygonTest(contour, (float(x), float(y)), True)) <= dist_px for x, y in points], bool)
+
+
+def _panning(core: Perception, px_per_frame: float, frames: int) -> list[bool]:
+    """Decide a sequence whose camera pans ``px_per_frame`` (the scene moves left); return which frames were followed."""
+    return [core.process_rectified(*_render(shift=(-px_per_frame * k, 0))).candidates_followed for k in range(frames)]
+
+
+def test_a_pass_taken_frames_later_is_followed_from_where_the_scene_has_moved(monkeypatch):
+    """A 22 px / frame pan: a pass taken 4 frames after its own frame (88 px away) is followed from the
+    motion the followed pairs showed meanwhile; without that prediction the flow loses it (a fresh frame)."""
+    core = _core(4)
+    assert _panning(core, 22.0, 7) == [False] + [True] * 6
+    assert core.reuse.counts["lost"] == 0 and core.reuse.counts["refreshed"] >= 2
+    blind = _core(4)
+    monkeypatch.setattr(blind.reuse, "_motion_since", lambda anchor: None)
+    _panning(blind, 22.0, 7)
+    assert blind.reuse.counts["lost"] >= 1
+
+
+def test_scene_motion_predicts_a_point_from_its_followed_neighbours():
+    """Two regions moved differently (parallax): a point moves as its nearest followed pairs did."""
+    from dip3d_vehicle.perception.reuse import Anchor, SceneMotion
+
+    rng = np.random.default_rng(0)
+    near, far = rng.uniform(0, 100, (20, 2)), rng.uniform(400, 500, (20, 2))
+    pts = np.vstack([near, far])
+    anchor = Anchor(np.arange(40), pts, pts - [30.0, 0.0])
+    shift = np.where(np.arange(40)[:, None] < 20, [12.0, 1.0], [4.0, 0.0])
+    kept = np.arange(0, 40, 2)                       # half of them still followed, in another order
+    motion = SceneMotion.between(anchor, kept[::-1], (pts + shift)[kept[::-1]], (pts - [30.0, 0.0] + shift)[kept[::-1]])
+    left, right = motion.moved(np.array([[50.0, 50.0], [450.0, 450.0]]), np.array([[20.0, 50.0], [420.0, 450.0]]))
+    np.testing.assert_allclose(left, [[62.0, 51.0], [454.0, 450.0]])
+    np.testing.assert_allclose(right, [[32.0, 51.0], [424.0, 450.0]])
+    assert SceneMotion.between(anchor, np.arange(3), pts[:3], pts[:3]) is None   # too few to tell
