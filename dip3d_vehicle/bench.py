@@ -349,6 +349,8 @@ def run_profile(profile: str, data: BenchFrames, overrides: Mapping[str, Any] | 
                     correct_neural.append(ok)
                 kind = decision_class(doc, ok)
                 decisions[kind] = decisions.get(kind, 0) + 1
+                if kind == "correct" and (doc.get("selection") or {}).get("ambiguous"):  # counted apart as well
+                    decisions["correct_flagged_ambiguous"] = decisions.get("correct_flagged_ambiguous", 0) + 1
     cpu_ms = (time.process_time() - cpu0) * 1e3
     total_s = sum(wall) / 1e3
     p = _params_of(perception)
@@ -517,7 +519,8 @@ def format_table(report: Mapping[str, Any]) -> str:
         lines.append(f"{name:<16}{r['fps']:>8.2f}{_fmt(r['fps_ratio_to_paper']):>9}{_fmt(r['latency_ms']['p50']):>9}"
                      f"{_fmt(r['latency_ms']['p99']):>9}{_fmt(r['cpu_ms_per_frame']):>9}{r['peak_rss_mib']:>10.0f}"
                      f"{acc:>10}{neural:>11}  {src}")
-    lines += ["", "decisions per scored frame (nothing_on_ray and abstentions apart from wrong picks)"]
+    lines += ["", "decisions per scored frame (nothing_on_ray and abstentions apart from wrong picks; "
+                  "correct_flagged_ambiguous: correct picks the selector flagged ambiguous, also in correct)"]
     for name, r in report["profiles"].items():
         lines.append(f"{name:<16}" + ", ".join(f"{k} {v}" for k, v in sorted(r.get("decisions", {}).items())))
     lines += ["", "stage ms, median / p99"]

@@ -15,7 +15,11 @@ small rotation between the cameras, 1600x1200. Families:
 Outcomes per draw: ``correct`` (the chosen point inside the pointed placard; for ``undetectable``,
 also the status ``nothing_on_ray``: its few pixels are sometimes matched after all), ``abstained`` (``nothing_on_ray``, flagged ambiguous, pose rejected
 or no decision), ``confident_wrong`` (another object with confidence >= 0.8, not flagged
-ambiguous) and ``wrong`` (another object, unsure).
+ambiguous) and ``wrong`` (another object, unsure). A pick inside the pointed placard counts as
+``correct`` even when the selector flagged it ambiguous (confidence under
+``selection.min_confidence``); such picks are also counted apart (``Tally.unsure``), and the
+headline line says their share: on seed 900 at 2 px, 36 of the 82 points of detectable "correct"
+(docs/issue11/session15).
 """
 
 from __future__ import annotations
@@ -234,10 +238,19 @@ class Tally:
 
     outcomes: dict = field(default_factory=dict)
     recall: dict = field(default_factory=dict)
+    unsure: dict = field(default_factory=dict)   # "correct" picks the selector flagged ambiguous, per key
 
-    def add(self, key: tuple, what: str) -> None:
-        """Count one outcome under ``key`` = (profile, family, band, noise_px)."""
+    def add(self, key: tuple, what: str, flagged_ambiguous: bool = False) -> None:
+        """Count one outcome under ``key`` = (profile, family, band, noise_px); ``flagged_ambiguous``: a
+        "correct" pick the selector itself called ambiguous (counted as correct, and apart)."""
         self.outcomes.setdefault(key, dict.fromkeys(OUTCOMES, 0))[what] += 1
+        if what == "correct" and flagged_ambiguous:
+            self.unsure[key] = self.unsure.get(key, 0) + 1
+
+    def merged_unsure(self, profile: str, noise: float, families=FAMILIES, bands=("1-3 m", "3-6 m")) -> int:
+        """Return how many "correct" picks were flagged ambiguous, summed over families and bands."""
+        return sum(v for (p, f, b, n), v in self.unsure.items()
+                   if p == profile and n == noise and f in families and b in bands)
 
     def add_recall(self, key: tuple, hit: bool) -> None:
         """Count one detectable scene under ``key`` = (profile, family, band)."""
@@ -304,7 +317,9 @@ def tally_family(tmp: Path, family: str, n_scenes: int, draws: int, seed0: int, 
                     result = checked
                     if checked.status == "ok":
                         result = perception.decide(checked, perception.add_corridor(left, right, checked.arm, base))
-                    tally.add((profile, family, scene.band, sigma), outcome(scene, result, rig))
+                    sel = result.selection
+                    flagged = result.status == "ok" and sel is not None and sel.target is not None and sel.ambiguous
+                    tally.add((profile, family, scene.band, sigma), outcome(scene, result, rig), flagged)
     return tally
 
 

@@ -245,7 +245,9 @@ if __name__ == "__main__":  # pragma: no cover - the full table for the closing 
                 det = everything.merged(profile, sigma, ("line_of_sight", "far", "elbow", "far_diver"))
                 und = everything.merged(profile, sigma, ("undetectable",))
                 allc = everything.merged(profile, sigma)
-                print(f"{profile} {sigma:.0f}px: detectable correct {sf.rate(det, 'correct'):.1%}, abstained "
+                unsure = everything.merged_unsure(profile, sigma, ("line_of_sight", "far", "elbow", "far_diver"))
+                print(f"{profile} {sigma:.0f}px: detectable correct {sf.rate(det, 'correct'):.1%} "
+                      f"(flagged ambiguous {unsure / max(sum(det.values()), 1):.1%}), abstained "
                       f"{sf.rate(det, 'abstained'):.1%}; undetectable nothing_on_ray/correct {sf.rate(und, 'correct'):.1%}; "
                       f"confidently wrong {sf.rate(allc, 'confident_wrong'):.2%} of all draws")
             hit, total = everything.merged_recall(profile)
