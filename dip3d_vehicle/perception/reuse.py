@@ -334,7 +334,7 @@ class CandidateReuse:
         """
         cur = views_of(left_rect, right_rect)
         self._views = cur
-        job = self._job
+        job, motion = self._job, None
         if job is not None:
             if job.future is not None:
                 job.future.result()                  # the pieces the previous frame started
@@ -343,16 +343,14 @@ class CandidateReuse:
             if job.due <= 0:
                 self._job = None
                 motion = self._motion_since(job.anchor)
-                self._state = self._taken(job)       # followed from its own frame in one step
-                self._scanned_now = False
-                return self._follow(cur, motion)
+                self._state = self._taken(job)       # followed from its own frame below, in one step
             else:                                    # this frame's share runs beside the frame's own work
                 job.future = shared_pool("reuse", 1).submit(_run_pieces, job, job.per_frame)
         self._scanned_now = False
         if self._state is None:
             self.last_reason = "nothing to follow"
             return False
-        return self._follow(cur)
+        return self._follow(cur, motion)
 
     def _taken(self, job: _Job) -> _Scan:
         """Return a due pass's scan; the corridor of a later rescan (still in the state's views) replaces its own."""

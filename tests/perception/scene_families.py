@@ -232,6 +232,12 @@ def target_detected(scene: Scene, candidates_left_px: np.ndarray) -> bool:
     return any(cv2.pointPolygonTest(poly, (float(x), float(y)), False) >= 0 for x, y in candidates_left_px)
 
 
+def _selected(key: tuple, profile: str, noise: float, families, bands) -> bool:
+    """True when a (profile, family, band, noise_px) key is one of those asked for."""
+    p, f, b, n = key
+    return p == profile and n == noise and f in families and b in bands
+
+
 @dataclass
 class Tally:
     """Outcome counts per (profile, family, band, noise) and detection recall per (profile, family, band)."""
@@ -249,8 +255,7 @@ class Tally:
 
     def merged_unsure(self, profile: str, noise: float, families=FAMILIES, bands=("1-3 m", "3-6 m")) -> int:
         """Return how many "correct" picks were flagged ambiguous, summed over families and bands."""
-        return sum(v for (p, f, b, n), v in self.unsure.items()
-                   if p == profile and n == noise and f in families and b in bands)
+        return sum(v for key, v in self.unsure.items() if _selected(key, profile, noise, families, bands))
 
     def add_recall(self, key: tuple, hit: bool) -> None:
         """Count one detectable scene under ``key`` = (profile, family, band)."""
@@ -261,8 +266,8 @@ class Tally:
     def merged(self, profile: str, noise: float, families=FAMILIES, bands=("1-3 m", "3-6 m")) -> dict:
         """Return outcome counts summed over families and bands."""
         out = dict.fromkeys(OUTCOMES, 0)
-        for (p, f, b, n), counts in self.outcomes.items():
-            if p == profile and n == noise and f in families and b in bands:
+        for key, counts in self.outcomes.items():
+            if _selected(key, profile, noise, families, bands):
                 for k, v in counts.items():
                     out[k] += v
         return out
