@@ -108,6 +108,9 @@ class FusedDecision:
             frame). The frames of a point share the diver's pointing error, so this, not
             ``posterior[best]``, is what the point says about it once: a steady lean of 0.8 per
             frame fuses to ~1.0 but stays 0.8 here (issue 11's near_miss).
+        one_look_posterior: every hypothesis' posterior with the frames counted as one look ("none"
+            included; empty: no frame): where the rest of the doubt lies, on other objects or on
+            "nothing detected".
     """
 
     kind: str
@@ -118,13 +121,25 @@ class FusedDecision:
     frames: int
     reason: str
     one_look: float | None = None
+    one_look_posterior: dict = field(default_factory=dict)
 
     def record(self, t_s: float) -> dict:
-        """Return a small record of the decision at ``t_s`` seconds: kind, frames, fused and one-look posterior."""
+        """Return a small record of the decision at ``t_s`` seconds: kind, frames, fused and one-look posterior.
+
+        ``one_look_posterior`` holds the best hypothesis, the best other object and "none" (rounded).
+        """
         p = self.posterior.get(self.best) if self.best is not None else None
         return {"t_s": round(t_s, 3), "kind": self.kind, "frames": self.frames,
                 "posterior": None if p is None else round(p, 4),
-                "one_look": None if self.one_look is None else round(self.one_look, 4)}
+                "one_look": None if self.one_look is None else round(self.one_look, 4),
+                "one_look_posterior": self._one_look_summary()}
+
+    def _one_look_summary(self) -> dict:
+        """Return the one-look posterior of the best hypothesis, the best other object and "none", rounded."""
+        post = self.one_look_posterior
+        others = sorted((k for k in post if k not in (self.best, NONE)), key=post.get, reverse=True)
+        keys = [k for k in (self.best, *others[:1], NONE) if k in post]
+        return {k: round(post[k], 4) for k in dict.fromkeys(keys)}
 
     def summary(self) -> str:
         """Return the posterior as text, best first, e.g. ``o1 0.93, none 0.05, o2 0.02``."""
@@ -287,25 +302,27 @@ class PointFusion:
         post = self.posterior()
         ranked = sorted(post, key=post.get, reverse=True)
         best, second = ranked[0], (ranked[1] if len(ranked) > 1 else None)
-        one = self.posterior(1.0 / n)[best]
+        looked = self.posterior(1.0 / n)
+        one = looked[best]
         led = self.none_led if best == NONE else next(h.led for h in self.hypotheses if h.key == best)
         if post[best] < min_posterior:
             why = f"fused {best} {post[best]:.2f} < {min_posterior:g} over {n} frames"
-            return FusedDecision("undecided", None, post, best, second, n, why, one)
+            return FusedDecision("undecided", None, post, best, second, n, why, one, looked)
         if led < min_led:
             why = f"{best} led {led} of {n} frames (< {min_led})"
-            return FusedDecision("undecided", None, post, best, second, n, why, one)
+            return FusedDecision("undecided", None, post, best, second, n, why, one, looked)
         if self.shared_error and best != NONE and one < self.min_shared_posterior:
             cause = "the pose model's and the diver's pointing error" if self.pose_error else "the diver's pointing error"
             why = (f"{best} {one:.2f} < {self.min_shared_posterior:g} with the {n} frames counted as one "
                    f"(they share {cause})")
-            return FusedDecision("undecided", None, post, best, second, n, why, one)
+            return FusedDecision("undecided", None, post, best, second, n, why, one, looked)
         looks = f"{one:.2f} counted as one look"
         if best == NONE:
             return FusedDecision("none", None, post, best, second, n, f"nothing detected: fused {post[best]:.2f}, {looks}",
-                                 one)
+                                 one, looked)
         h = next(h for h in self.hypotheses if h.key == best)
-        return FusedDecision("object", h, post, best, second, n, f"fused {post[best]:.2f} over {n} frames, {looks}", one)
+        return FusedDecision("object", h, post, best, second, n, f"fused {post[best]:.2f} over {n} frames, {looks}", one,
+                             looked)
 
     def hypothesis(self, key: str) -> Hypothesis | None:
         """Return the object hypothesis with this key, or None."""

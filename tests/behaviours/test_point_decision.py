@@ -113,12 +113,17 @@ def test_a_decision_states_what_the_point_says_as_one_look_beside_the_fused_post
     assert abs(d.one_look - 0.80) < 0.01 and "0.80 counted as one look" in d.reason
     rec = d.record(2.5)  # what the blackboard keeps (bounded) and sitl --json reports
     assert rec["kind"] == "object" and rec["frames"] == 7 and rec["t_s"] == 2.5 and rec["one_look"] < rec["posterior"]
+    assert rec["one_look_posterior"] == {d.best: 0.8, NONE: 0.2}  # where the rest of the doubt lies
     f = PointFusion(0.3)
     for _ in range(6):
         f.add(_frame({1.0: 0.1, 2.0: 0.05}, 0.85), 0.0)
     d = f.decide(0.9, 3)
     assert d.kind == "none" and 0.8 < d.one_look < d.posterior[NONE] and "counted as one look" in d.reason
-    assert PointFusion(0.3).decide(0.9, 3).one_look is None  # no frame: nothing to say
+    looked = d.record(1.0)["one_look_posterior"]
+    assert list(looked) == [NONE, "o1"] and looked["o1"] > d.one_look_posterior["o2"]  # the best other object only
+    assert abs(sum(d.one_look_posterior.values()) - 1.0) < 1e-9
+    empty = PointFusion(0.3).decide(0.9, 3)
+    assert empty.one_look is None and empty.record(0.0)["one_look_posterior"] == {}  # no frame: nothing to say
 
 
 def test_frames_without_objects_count_for_nothing_and_unusable_frames_are_skipped():

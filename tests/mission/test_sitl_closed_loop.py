@@ -74,6 +74,8 @@ def test_paper_pool_mission_reaches_the_pointed_placard():
     decided = result.to_json()["decisions"]  # the decision it acted on: fused, and its frames counted as one look
     assert [d["kind"] for d in decided] == ["object"] and decided[0]["frames"] >= 3
     assert 0.5 <= decided[0]["one_look"] <= decided[0]["posterior"] <= 1.0
+    looked = decided[0]["one_look_posterior"]  # the rest of the doubt: the best other object, "nothing detected"
+    assert looked[next(iter(looked))] == decided[0]["one_look"] and "none" in looked and sum(looked.values()) <= 1.0 + 1e-3
 
 
 @pytest.mark.slow
