@@ -102,7 +102,8 @@ class ControllerTrial:
 
     def __init__(self, plan: FaultPlan, params: Mapping[str, Any] | None = None, seed: int = 0,
                  log_path: str | Path | None = None) -> None:
-        from .simulation import Router, SimPilot
+        from .router import Router
+        from .sim_pilot import SimPilot
 
         self.params = params if params is not None else load_params()
         if plan.params:

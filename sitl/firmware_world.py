@@ -49,7 +49,9 @@ from .ardusub_sitl import DEFAULT_HOME, EXTERNAL_NAV_ARGS, EXTERNAL_NAV_PARAMS, 
 from .autopilot import Event
 from .dynamics import VehicleState
 from .scenario_model import Scenario
-from .simulation import Received, Router, SimPilot, Simulation, _Peer
+from .router import Router, _Peer
+from .sim_pilot import SimPilot
+from .simulation import Received, Simulation
 from .worker_perception import WorkerPerception
 
 __all__ = ["FirmwareVehicle", "FirmwareRouter", "FirmwareSimulation", "make_firmware_simulation"]

@@ -3,9 +3,9 @@
 Parties, all on one SimClock, stepped in lockstep every ``sitl.step_s``:
 
 - ``Autopilot`` (sitl/autopilot.py): the ArduSub-like vehicle on a real loopback TCP socket.
-- ``Router``: forwards every MAVLink message between the autopilot and its clients, as BlueOS's
+- ``Router`` (sitl/router.py): forwards every MAVLink message between the autopilot and its clients, as BlueOS's
   mavlink-router does on a real vehicle (the autopilot itself routes nothing).
-- ``SimPilot``: the ground station (system 255, a small pymavlink client on the router): 1 Hz GCS
+- ``SimPilot`` (sitl/sim_pilot.py): the ground station (system 255, a small pymavlink client on the router): 1 Hz GCS
   HEARTBEAT; at ``sitl.gcs_arm_at_s`` it arms, selects the engage mode (ALT_HOLD for
   manual_control, GUIDED for guided_velocity) and enables the controller with MAV_CMD_USER_1, as
   a pilot would; it can also take the vehicle back (mode change, disarm, disable) for the safety
@@ -24,232 +24,28 @@ at ``speed`` x real time.
 from __future__ import annotations
 
 import math
-import socket
 import time
 from dataclasses import dataclass, field
 from typing import Any, Mapping
 
 import numpy as np
-from pymavlink import mavutil
-from pymavlink.dialects.v20 import ardupilotmega as m2
-
 from behaviours.loop import Controller, FrameProcessor, build_mission, observation_summary
 from dip3d_vehicle.clock import SimClock
 from dip3d_vehicle.config import Params, load_params
-from dip3d_vehicle.link import MAV_CMD_USER_1, VehicleLink
+from dip3d_vehicle.link import VehicleLink
 from dip3d_vehicle.perception.pipeline import Perception
 
 from .autopilot import Autopilot
 from .dynamics import VehicleState
 from .pose_source import SimPose, pose_backend_for
 from .render import StereoRenderer
+from .router import Router
 from .scenario import Scenario, load_scenario
+from .sim_pilot import SimPilot
 from .outcome import mission_outcome
 
 __all__ = ["Router", "SimPilot", "Fault", "Received", "SimResult", "Simulation", "sim_params", "run_mission"]
 
-GCS_SYSID, GCS_COMPID = 255, 190
-_MODES = {"STABILIZE": 0, "ALT_HOLD": 2, "GUIDED": 4, "MANUAL": 19}
-
-
-# --------------------------------------------------------------------------------------- router
-class _Peer:
-    """One socket of the router with its own MAVLink parser."""
-
-    def __init__(self, sock: socket.socket, name: str) -> None:
-        sock.setblocking(False)
-        self.sock, self.name = sock, name
-        self.parser = m2.MAVLink(None)
-        self.parser.robust_parsing = True
-        self.alive = True
-
-    def read(self) -> list[bytes]:
-        """Return the raw bytes of every complete message waiting."""
-        out = []
-        while self.alive:
-            try:
-                data = self.sock.recv(65536)
-            except (BlockingIOError, InterruptedError):
-                break
-            except OSError:
-                self.alive = False
-                break
-            if not data:
-                self.alive = False
-                break
-            for msg in self.parser.parse_buffer(data) or []:
-                if msg.get_type() != "BAD_DATA":
-                    out.append(bytes(msg.get_msgbuf()))
-        return out
-
-    def write(self, buf: bytes) -> None:
-        """Send bytes (dropped if the peer is gone)."""
-        if not self.alive:
-            return
-        try:
-            self.sock.sendall(buf)
-        except OSError:
-            self.alive = False
-
-
-class Router:
-    """A MAVLink router: the autopilot's TCP port on one side, any number of TCP clients on the other.
-
-    Every message from the autopilot goes to every client; every message from a client goes to the
-    autopilot and to the other clients. ``mute_autopilot`` drops everything the autopilot sends
-    (its telemetry and HEARTBEAT stop reaching the clients) while still delivering to it.
-
-    Args:
-        autopilot_address: ``tcp:HOST:PORT`` of the autopilot.
-    """
-
-    def __init__(self, autopilot_address: str) -> None:
-        host, port = autopilot_address.split(":")[-2:]
-        ap = socket.create_connection((host, int(port)))
-        ap.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
-        self.autopilot = _Peer(ap, "autopilot")
-        self.server = socket.socket(socket.AF_INET, socket.SOCK_STREAM)
-        self.server.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
-        self.server.bind(("127.0.0.1", 0))
-        self.server.listen(8)
-        self.server.setblocking(False)
-        self.clients: list[_Peer] = []
-        self.mute_autopilot = False
-        self.dropped_from_autopilot = 0
-
-    @property
-    def address(self) -> str:
-        """The clients' URL (``tcp:127.0.0.1:PORT``)."""
-        return f"tcp:127.0.0.1:{self.server.getsockname()[1]}"
-
-    def step(self) -> None:
-        """Accept new clients and forward everything waiting."""
-        while True:
-            try:
-                sock, _ = self.server.accept()
-            except (BlockingIOError, InterruptedError):
-                break
-            sock.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
-            self.clients.append(_Peer(sock, f"client{len(self.clients)}"))
-        for buf in self.autopilot.read():
-            if self.mute_autopilot:
-                self.dropped_from_autopilot += 1
-                continue
-            for c in self.clients:
-                c.write(buf)
-        for src in self.clients:
-            for buf in src.read():
-                self.autopilot.write(buf)
-                for c in self.clients:
-                    if c is not src:
-                        c.write(buf)
-
-    def close(self) -> None:
-        """Close every socket."""
-        for p in [self.autopilot, *self.clients]:
-            try:
-                p.sock.close()
-            except OSError:
-                pass
-        self.server.close()
-
-
-# --------------------------------------------------------------------------------------- pilot
-class SimPilot:
-    """The ground station and its pilot: heartbeat, arm + mode + enable, and taking over.
-
-    Args:
-        url: the router's client URL.
-        clock: the simulation clock.
-        engage_mode: the mode the pilot selects ("ALT_HOLD" or "GUIDED").
-        arm_at_s: when the pilot hands the vehicle over.
-    """
-
-    def __init__(self, url: str, clock: SimClock, engage_mode: str, arm_at_s: float) -> None:
-        self.conn = mavutil.mavlink_connection(url, source_system=GCS_SYSID, source_component=GCS_COMPID,
-                                               dialect="ardupilotmega", autoreconnect=False)
-        self.conn.mav = m2.MAVLink(self.conn, srcSystem=GCS_SYSID, srcComponent=GCS_COMPID)
-        self.clock, self.engage_mode, self.arm_at_s = clock, engage_mode, arm_at_s
-        self.heartbeats = True
-        self.handed_over = False
-        self.enable_acked = False
-        self._next_hb = 0.0
-        self._next_try = arm_at_s
-        self.armed = False
-        self.mode = ""
-        self.statustexts: list[tuple[float, str]] = []
-        from dip3d_vehicle.link.statustext import StatusTextAssembler
-        self._texts = StatusTextAssembler()  # chunked STATUSTEXTs (id / chunk_seq) put back together
-        # A pilot flying GUIDED has the joystick connected: it streams centred sticks (as QGC does),
-        # which keeps ArduSub's pilot-input failsafe quiet; GUIDED ignores them. In ALT_HOLD the
-        # controller's own MANUAL_CONTROL is the pilot input, and a second stream would fight it.
-        self.joystick = engage_mode == "GUIDED"
-        self._next_stick = 0.0
-        self.acks: list[tuple[float, int, int]] = []
-
-    def step(self) -> None:
-        """Read the autopilot's / controller's messages; send heartbeat and hand-over commands when due."""
-        now = self.clock.now()
-        while True:
-            msg = self.conn.recv_msg()
-            if msg is None:
-                break
-            self._on(msg, now)
-        if self.heartbeats and now >= self._next_hb:
-            self.conn.mav.heartbeat_send(m2.MAV_TYPE_GCS, m2.MAV_AUTOPILOT_INVALID, 0, 0, 0)
-            self._next_hb = now + 1.0
-        if self.joystick and now >= self._next_stick:
-            self.conn.mav.manual_control_send(1, 0, 0, 500, 0, 0)
-            self._next_stick = now + 0.1
-        if not self.handed_over and now >= self._next_try:
-            self._next_try = now + 1.0
-            if not self.armed:
-                self.command(1, 1, m2.MAV_CMD_COMPONENT_ARM_DISARM, 1.0)
-            if self.mode != self.engage_mode:
-                self.command(1, 1, m2.MAV_CMD_DO_SET_MODE, 1.0, float(_MODES[self.engage_mode]))
-            if self.armed and self.mode == self.engage_mode:
-                self.command(1, 191, MAV_CMD_USER_1, 1.0)
-            if self.enable_acked:
-                self.handed_over = True
-
-    def _on(self, msg: Any, now: float) -> None:
-        kind = msg.get_type()
-        src = (msg.get_srcSystem(), msg.get_srcComponent())
-        if kind == "HEARTBEAT" and src == (1, 1):
-            self.armed = bool(msg.base_mode & m2.MAV_MODE_FLAG_SAFETY_ARMED)
-            self.mode = {v: k for k, v in _MODES.items()}.get(msg.custom_mode, str(msg.custom_mode))
-        elif kind == "STATUSTEXT":
-            text = self._texts.add(msg)  # chunked texts (id / chunk_seq) put back together
-            if text is not None:
-                self.statustexts.append((now, f"{src[0]}/{src[1]}: {text}"))
-        elif kind == "COMMAND_ACK" and getattr(msg, "target_system", GCS_SYSID) == GCS_SYSID:
-            self.acks.append((now, msg.command, msg.result))
-            if msg.command == MAV_CMD_USER_1 and src == (1, 191):
-                self.enable_acked = msg.result == m2.MAV_RESULT_ACCEPTED
-
-    def command(self, target_system: int, target_component: int, command: int, *params: float) -> None:
-        """Send one COMMAND_LONG."""
-        p = list(params) + [0.0] * (7 - len(params))
-        self.conn.mav.command_long_send(target_system, target_component, command, 0, *p)
-
-    def set_mode(self, name: str) -> None:
-        """The pilot selects a mode (DO_SET_MODE)."""
-        self.command(1, 1, m2.MAV_CMD_DO_SET_MODE, 1.0, float(_MODES[name]))
-
-    def disarm(self) -> None:
-        """The pilot disarms."""
-        self.command(1, 1, m2.MAV_CMD_COMPONENT_ARM_DISARM, 0.0)
-
-    def disable_controller(self) -> None:
-        """The operator withdraws the controller's enable (MAV_CMD_USER_1 param1 0)."""
-        self.command(1, 191, MAV_CMD_USER_1, 0.0)
-
-    def close(self) -> None:
-        """Close the connection."""
-        try:
-            self.conn.close()
-        except OSError:
-            pass
 
 
 # --------------------------------------------------------------------------------------- faults
