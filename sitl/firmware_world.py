@@ -49,7 +49,7 @@ from .ardusub_sitl import DEFAULT_HOME, EXTERNAL_NAV_ARGS, EXTERNAL_NAV_PARAMS, 
 from .autopilot import Event
 from .dynamics import VehicleState
 from .scenario_model import Scenario
-from .router import Router, _Peer
+from .router import Router
 from .sim_pilot import SimPilot
 from .simulation import Received, Simulation
 from .worker_perception import WorkerPerception
@@ -130,15 +130,7 @@ class FirmwareRouter(Router):
     """The router with the firmware's connected socket as its autopilot side, tapping both directions."""
 
     def __init__(self, sock: socket.socket, vehicle: FirmwareVehicle, received: list[Received]) -> None:
-        self.autopilot = _Peer(sock, "autopilot")
-        self.server = socket.socket(socket.AF_INET, socket.SOCK_STREAM)
-        self.server.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
-        self.server.bind(("127.0.0.1", 0))
-        self.server.listen(8)
-        self.server.setblocking(False)
-        self.clients: list[_Peer] = []
-        self.mute_autopilot = False
-        self.dropped_from_autopilot = 0
+        self._serve(sock)
         self.vehicle, self.received = vehicle, received
         self._tap = m2.MAVLink(None)
         self._tap.robust_parsing = True
@@ -157,13 +149,7 @@ class FirmwareRouter(Router):
 
     def step(self) -> None:
         """Accept clients, forward everything, and tap what passes."""
-        while True:
-            try:
-                sock, _ = self.server.accept()
-            except (BlockingIOError, InterruptedError):
-                break
-            sock.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
-            self.clients.append(_Peer(sock, f"client{len(self.clients)}"))
+        self.accept()
         if not self.autopilot.alive:
             raise ConnectionError("the ArduSub SITL closed its connection (did the process exit?)")
         for buf in self.autopilot.read():

@@ -68,7 +68,11 @@ class Router:
         host, port = autopilot_address.split(":")[-2:]
         ap = socket.create_connection((host, int(port)))
         ap.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
-        self.autopilot = _Peer(ap, "autopilot")
+        self._serve(ap)
+
+    def _serve(self, autopilot_sock: socket.socket) -> None:
+        """Take a connected autopilot socket and open the clients' listening socket (loopback, any port)."""
+        self.autopilot = _Peer(autopilot_sock, "autopilot")
         self.server = socket.socket(socket.AF_INET, socket.SOCK_STREAM)
         self.server.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
         self.server.bind(("127.0.0.1", 0))
@@ -83,8 +87,8 @@ class Router:
         """The clients' URL (``tcp:127.0.0.1:PORT``)."""
         return f"tcp:127.0.0.1:{self.server.getsockname()[1]}"
 
-    def step(self) -> None:
-        """Accept new clients and forward everything waiting."""
+    def accept(self) -> None:
+        """Accept the clients waiting to connect."""
         while True:
             try:
                 sock, _ = self.server.accept()
@@ -92,6 +96,10 @@ class Router:
                 break
             sock.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
             self.clients.append(_Peer(sock, f"client{len(self.clients)}"))
+
+    def step(self) -> None:
+        """Accept new clients and forward everything waiting."""
+        self.accept()
         for buf in self.autopilot.read():
             if self.mute_autopilot:
                 self.dropped_from_autopilot += 1
