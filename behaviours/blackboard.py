@@ -102,8 +102,6 @@ class BehaviourConfig:
     close_in_clearance_m: float = 0.5
     close_in_min_step_m: float = 0.3
     close_in_max_descent_m: float = 0.0
-    closer_look_min_none: float = 0.0
-    closer_look_range_m: float = 1.2
     shake_yaw_rate_rad_s: float = 0.35
     shake_swing_s: float = 0.4
     stop_gesture: bool = True

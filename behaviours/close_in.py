@@ -35,8 +35,7 @@ import numpy as np
 
 from .second_look import _in_view
 
-__all__ = ["CloseInStep", "horizontal_range_m", "path_clearance_m", "elevation_rad", "plan_close_in",
-           "pointed_point", "plan_closer_look"]
+__all__ = ["CloseInStep", "horizontal_range_m", "path_clearance_m", "elevation_rad", "plan_close_in"]
 
 
 @dataclass(frozen=True)
@@ -49,7 +48,6 @@ class CloseInStep:
     range_after_m: float
     descent_m: float = 0.0
     elevation_after_rad: float = 0.0
-    toward: str = "diver"   # "diver" (the shoulder: ranges are the diver's) or "pointed" (where the arm points)
 
 
 def horizontal_range_m(xyz) -> float:
@@ -138,42 +136,3 @@ def plan_close_in(diver_xyz, keep_xyz, target_range_m: float, standoff_m: float,
                                    j * resolution_m, elev)
             break
     return step
-
-
-def pointed_point(arm_xyz, object_xyz) -> np.ndarray:
-    """Return the point of the arm's ray (shoulder -> wrist, beyond the wrist) nearest an object, camera frame, metres.
-
-    Examples:
-        >>> pointed_point([[0, 0, 3], [0.3, 0, 3], [0.6, 0, 3]], [1.5, 0.4, 2.5]).round(2).tolist()
-        [1.5, 0.0, 3.0]
-    """
-    arm = np.asarray(arm_xyz, float).reshape(-1, 3)
-    shoulder, wrist = arm[0], arm[-1]
-    d = wrist - shoulder
-    reach = float(np.linalg.norm(d))
-    if reach <= 1e-9:
-        return wrist.copy()
-    d = d / reach
-    t = max(float((np.asarray(object_xyz, float) - shoulder) @ d), reach)
-    return shoulder + t * d
-
-
-def plan_closer_look(arm_xyz, object_xyz, keep_xyz, range_m: float, clearance_m: float, focal_px: float,
-                     principal_px: tuple[float, float], margin_px: float = 80.0, min_step_m: float = 0.3
-                     ) -> CloseInStep | None:
-    """Return a level advance toward where the arm points (at the chosen object's distance along it), or None.
-
-    A small or faint object the arm points at may be found from nearer (issue 11's near_miss: a 4 cm
-    placard is 17 px at 2.2 m, and from 1 m nearer it is found in every frame). The advance aims at
-    ``pointed_point(arm, object)``, ends no nearer it than ``range_m`` (horizontal), keeps the
-    arm's joints and every kept point (object hypotheses) in view by ``margin_px`` all along the
-    path, and passes none of them (the diver's joints included) closer than ``clearance_m``;
-    ranges in the step are the pointed point's. None when it is shorter than ``min_step_m``.
-    """
-    arm = np.asarray(arm_xyz, float).reshape(-1, 3)
-    aim = pointed_point(arm, object_xyz)
-    keep = np.vstack([np.asarray(keep_xyz, float).reshape(-1, 3), arm])
-    step = plan_close_in(np.vstack([aim, arm]), keep, range_m, range_m, clearance_m, focal_px, principal_px,
-                         margin_px, min_step_m)
-    return None if step is None else CloseInStep(step.offset_m, step.distance_m, step.range_before_m,
-                                                 step.range_after_m, toward="pointed")

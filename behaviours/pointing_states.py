@@ -16,7 +16,7 @@ from dip3d_vehicle.perception.held_arm import HeldArm
 from dip3d_vehicle.servo.command import VelocityCommand
 
 from .blackboard import Blackboard
-from .close_in import CloseInStep, horizontal_range_m, plan_close_in, plan_closer_look
+from .close_in import CloseInStep, horizontal_range_m, plan_close_in
 from .evidence import VoteBox, angular_spread_rad, image_direction
 from .fusion import NONE, FrameEvidence, FusedDecision, PointFusion
 from .mission_state import MissionState, arm_raised, new_result
@@ -187,10 +187,6 @@ class SelectTarget(_ArmWatch):
         if decision.kind == "undecided":
             return None
         _tell_decision(bb, decision)
-        closer = self.closer_look_step(bb, decision) if decision.kind == "object" else None
-        if closer is not None:
-            bb.close_in_step = closer
-            return "close_in"
         bb.decided.append(decision.record(bb.now_s))
         if decision.kind == "none":
             return "nothing_there"
@@ -240,27 +236,6 @@ class SelectTarget(_ArmWatch):
         if step is None:
             bb.say(f"diver {rng:.1f} m away (> {c.decide_max_range_m:g} m), but no advance keeps every candidate "
                    f"in view and clear")
-        return step
-
-    def closer_look_step(self, bb: Blackboard, decision: FusedDecision) -> CloseInStep | None:
-        """Return an advance toward where the arm points before acting on an object, or None (off, no tries, unsafe).
-
-        Only when ``behaviour.closer_look_min_none`` > 0 and "nothing detected" holds at least that
-        with the point's frames counted as one (an undetected small object may be what it points at).
-        """
-        c, arm3d = bb.config, self.last_arm3d
-        if c.closer_look_min_none <= 0 or arm3d is None or bb.close_ins >= c.close_in_max_tries:
-            return None
-        none = decision.one_look_posterior.get(NONE, 0.0)
-        if none < c.closer_look_min_none:
-            return None
-        keep = np.reshape([h.xyz_m for h in bb.fusion.hypotheses], (-1, 3))
-        step = plan_closer_look(arm3d.xyz_m, decision.winner.xyz_m, keep, c.closer_look_range_m,
-                                c.close_in_clearance_m, bb.servo.focal_px, bb.servo.principal_point_px,
-                                c.second_look_margin_px, c.close_in_min_step_m)
-        if step is not None:
-            bb.say(f"{decision.best} chosen, but 'nothing detected' holds {none:.2f} counted as one: "
-                   "looking closer where the arm points first")
         return step
 
     def look_step(self, bb: Blackboard, decision: FusedDecision) -> LookStep | None:
@@ -387,10 +362,6 @@ class CloseIn(_MoveThenDecide):
         n = max(math.sqrt(dx * dx + dy * dy + dz * dz), 1e-9)
         self.move_s = step.distance_m / v
         self.command = VelocityCommand(surge_m_s=v * dz / n, sway_m_s=v * dx / n, heave_m_s=v * dy / n)
-        if step.toward == "pointed":
-            bb.say(f"looking closer: {step.distance_m:.2f} m toward where the arm points ({step.range_before_m:.1f} "
-                   f"-> {step.range_after_m:.1f} m) before deciding", "notice", pilot=True)
-            return
         down = f", {step.descent_m:.2f} m down" if step.descent_m > 0 else ""
         bb.say(f"diver {step.range_before_m:.1f} m away: closing in {step.distance_m:.2f} m to "
                f"{step.range_after_m:.1f} m{down} before deciding", "notice", pilot=True)
