@@ -149,25 +149,19 @@ class FirmwareRouter(Router):
 
     def step(self) -> None:
         """Accept clients, forward everything, and tap what passes."""
-        self.accept()
         if not self.autopilot.alive:
             raise ConnectionError("the ArduSub SITL closed its connection (did the process exit?)")
-        for buf in self.autopilot.read():
-            for msg in self._parse(buf):
-                if msg.get_srcSystem() == 1 and msg.get_srcComponent() == 1:
-                    self.vehicle.on_message(msg)
-            if self.mute_autopilot:
-                self.dropped_from_autopilot += 1
-                continue
-            for c in self.clients:
-                c.write(buf)
-        for src in self.clients:
-            for buf in src.read():
-                self._record(buf)
-                self.autopilot.write(buf)
-                for c in self.clients:
-                    if c is not src:
-                        c.write(buf)
+        super().step()
+
+    def tap_autopilot(self, buf: bytes) -> None:
+        """The firmware's own messages (1/1) update the vehicle's state."""
+        for msg in self._parse(buf):
+            if msg.get_srcSystem() == 1 and msg.get_srcComponent() == 1:
+                self.vehicle.on_message(msg)
+
+    def tap_client(self, buf: bytes) -> None:
+        """What the clients send the firmware is recorded (``Received``)."""
+        self._record(buf)
 
     def _parse(self, buf: bytes) -> list[Any]:
         return [m for m in (self._tap.parse_buffer(buf) or []) if m.get_type() != "BAD_DATA"]

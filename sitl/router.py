@@ -101,6 +101,7 @@ class Router:
         """Accept new clients and forward everything waiting."""
         self.accept()
         for buf in self.autopilot.read():
+            self.tap_autopilot(buf)
             if self.mute_autopilot:
                 self.dropped_from_autopilot += 1
                 continue
@@ -108,10 +109,17 @@ class Router:
                 c.write(buf)
         for src in self.clients:
             for buf in src.read():
+                self.tap_client(buf)
                 self.autopilot.write(buf)
                 for c in self.clients:
                     if c is not src:
                         c.write(buf)
+
+    def tap_autopilot(self, buf: bytes) -> None:
+        """Hook: every buffer the autopilot sent, before it is forwarded (or dropped while muted)."""
+
+    def tap_client(self, buf: bytes) -> None:
+        """Hook: every buffer a client sent, before it is forwarded."""
 
     def close(self) -> None:
         """Close every socket."""
