@@ -23,9 +23,10 @@ it was not moving), and motion commands received after that (must be 0).
 the time from the point (the arm fully raised) to the decision and whether ``nothing_there`` or a
 second try (``ambiguous``) happened. Each run also gives the first decision's fused posterior and
 its posterior with the point's frames counted as one look (``behaviours/fusion.py``): the frames
-share the diver's pointing error, so the one-look figure is what the point said once (with the
-one-look posterior of the best other object and of "nothing detected": where the rest of the doubt
-lay); the summary gives its range over the arrived and over the wrong runs (issue 11: where they
+share the diver's pointing error, so the one-look figure is what the point said once. ``decisions``
+holds the record of every decision the mission acted on (``FusedDecision.record``: also the one-look
+posterior of the best other object and of "nothing detected", where the rest of the doubt lay). The
+summary gives the one-look range over the arrived and over the wrong runs (issue 11: where they
 overlap, no threshold on it separates the two).
 """
 
@@ -173,11 +174,10 @@ def mission_trial(args: tuple) -> dict:
             "decision": None if first is None else first["kind"],
             "decision_posterior": None if first is None else first["posterior"],
             "decision_one_look": None if first is None else first["one_look"],
-            "decision_one_look_posterior": None if first is None else first.get("one_look_posterior"),
             "ambiguous_round_trips": states.count("confirm_point") - 1, "nothing_there": "nothing_there" in states,
             "second_looks": states.count("second_look"), "second_look_displacement_m": _look_displacement(sim),
             "second_look_resolved": _resolved_after_look(states), "time_to_arrive_s": result.time_to_arrive_s,
-            "states": states}
+            "states": states, "decisions": list(sim.mission.bb.decided)}
 
 
 def _look_displacement(sim) -> float:

@@ -18,8 +18,8 @@ background thread beside its frame's own work and waited for by the next frame, 
 carries a whole pass and the result never depends on timing. On the K-th frame the pass is taken
 and followed to that frame in one flow step, starting where the pairs followed meanwhile say the
 scene has moved (``SceneMotion``: the camera may have moved tens of pixels in K frames): the
-decided frames use features found at most 2K - 1 frames earlier. The frame is computed afresh, exactly as without reuse, when there is nothing to
-follow (first frame, ``reset``), when fewer than ``candidates.reuse_min_tracked_fraction`` of the
+decided frames use features found at most 2K - 1 frames earlier. The frame is computed afresh,
+exactly as without reuse, when there is nothing to follow (first frame, ``reset``), when fewer than ``candidates.reuse_min_tracked_fraction`` of the
 pairs survive a flow step (the camera or the scene moved: a new scene, a moved object; pairs near
 the image border or in the margin next to the diver do not count), when this frame's kept columns
 reach beyond the scanned ones, and (the corridor alone) when less than

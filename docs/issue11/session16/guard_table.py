@@ -1,6 +1,9 @@
-"""Which acted-on decisions a guard on the one-look "none" share would have stopped (one_look_study.py lines).
+"""Which acted-on decisions a guard on the one-look "none" share would have stopped.
 
-Usage: python docs/issue11/session16/guard_table.py FILE.jsonl [FILE ...]
+Usage: python docs/issue11/session16/guard_table.py FILE [FILE ...]
+FILE: ``python -m sitl.point_campaign mission`` output named after its scenario (``near_miss.txt``;
+its run lines carry every acted-on decision's record), or the stored ``study_*.jsonl`` (their lines
+name the scenario).
 Per run: the first acted-on OBJECT decision's one-look posterior (best, "none", the best other
 object). For thresholds on the "none" share, how many of the runs that arrived and of those that went
 to a wrong placard had their decision at or above it (a counterfactual: a stopped decision might be
@@ -10,6 +13,7 @@ from __future__ import annotations
 
 import json
 import sys
+from pathlib import Path
 
 
 def rows(paths: list[str]) -> list[dict]:
@@ -18,6 +22,9 @@ def rows(paths: list[str]) -> list[dict]:
     for path in paths:
         for line in open(path):
             run = json.loads(line)
+            if "seed" not in run:                      # a campaign's summary line
+                continue
+            run.setdefault("scenario", Path(path).stem)
             decision = next((d for d in run["decisions"] if d["kind"] == "object"), None)
             if decision is None or not decision.get("one_look_posterior"):
                 continue
