@@ -31,6 +31,12 @@ def test_pose_left_arm_text(shared_dir, capsys):
     assert "left arm" in capsys.readouterr().out
 
 
+def test_pose_auto_arm_reports_the_arm_it_picked(shared_dir, capsys):
+    path = shared_dir / "data" / "photos" / "000000196141.jpg"     # the left arm raised, the right one unseen
+    assert main(["pose", str(path), "--arm", "auto", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["arm"] == "left"
+
+
 def test_pose_no_person(tmp_path, capsys):
     path = tmp_path / "grey.png"
     cv2.imwrite(str(path), np.full((200, 300, 3), 128, np.uint8))

@@ -10,6 +10,7 @@ import cv2
 import numpy as np
 
 from ..perception.images import read_image as read_checked_image, write_image
+from ..perception.pointing_arm import ARMS, AUTO, pointing_arm
 from ..perception.values import JOINTS
 from ._common import add_params_arguments, params_from_args
 
@@ -20,8 +21,8 @@ HELP = "find the pointing arm's shoulder, elbow and wrist in one image (BlazePos
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """Add the command's arguments."""
     parser.add_argument("image", metavar="IMAGE", help="image file (any format OpenCV reads)")
-    parser.add_argument("--arm", choices=["right", "left"], default=None,
-                        help="arm to report (default: parameter pose.arm)")
+    parser.add_argument("--arm", choices=list(ARMS), default=None,
+                        help="arm to report; auto = the one held away from the body (default: parameter pose.arm)")
     parser.add_argument("--json", action="store_true", help="print one JSON object")
     parser.add_argument("--annotate", metavar="OUT.png", default=None,
                         help="write the image with the arm's joints (and their confidence) drawn on it")
@@ -58,9 +59,11 @@ def annotate_arm(image: np.ndarray, result: dict) -> np.ndarray:
 
 
 def arm_result(landmarks: Any, arm: str) -> dict:
-    """Return the command's JSON object for a BlazePose result (None = no person)."""
+    """Return the command's JSON object for a BlazePose result (None = no person); "auto" reports the arm it picked."""
     if landmarks is None:
         return {"found": False, "arm": arm, "keypoints": None}
+    if arm == AUTO:
+        arm = pointing_arm(landmarks)
     xy, conf = landmarks.arm(arm)
     keypoints = {name: [round(float(x), 2), round(float(y), 2), round(float(c), 4)]
                  for name, (x, y), c in zip(JOINTS, xy, conf)}

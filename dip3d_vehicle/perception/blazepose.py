@@ -29,6 +29,7 @@ from .blazepose_roi import Roi, crop_matrix, letterbox_matrix, roi_from_points, 
 from .calibration import StereoRig
 from .joint_stereo import (JointDisparity, joint_disparities, match_joint_disparity, shoulder_disparity,
                            subpixel_peak as _subpixel)
+from .pointing_arm import AUTO, pointing_arm
 from .pose import ARM_INDICES, PoseEstimator
 from .values import ArmKeypoints
 
@@ -333,6 +334,10 @@ class BlazePoseEstimator(PoseEstimator):
                  disparity_floor_px: float = 1.5, keypoint_sigma_m: float | None = None) -> None:
         """Wrap a ``BlazePose``; ``stereo_search`` is "roi" (search along rows) or "detect".
 
+        ``arm``: "right", "left", or "auto": in each frame the arm held away from the body
+        (``pointing_arm.pointing_arm``; a diver points with either hand, and seen from behind the
+        model may swap its left and right).
+
         ``joint_disparity``: "landmarks" = the right image's landmarks as BlazePose places them;
         "match" = each arm joint's right position found by patch matching along its rectified
         row around them (``joint_stereo.match_joint_disparity``); "stereo" = the elbow's and
@@ -354,8 +359,8 @@ class BlazePoseEstimator(PoseEstimator):
         Keypoints are returned whatever their confidence: the pipeline applies
         ``pose.min_confidence`` (and reports ``pose_low_confidence`` rather than ``no_pose``).
         """
-        if arm not in ARM_INDICES:
-            raise ValueError(f"arm must be one of {sorted(ARM_INDICES)}, not {arm!r}")
+        if arm not in ARM_INDICES and arm != AUTO:
+            raise ValueError(f"arm must be one of {sorted(ARM_INDICES)} or {AUTO!r}, not {arm!r}")
         if stereo_search not in ("roi", "detect"):
             raise ValueError(f"stereo_search must be 'roi' or 'detect', not {stereo_search!r}")
         self.pose = pose
@@ -370,6 +375,7 @@ class BlazePoseEstimator(PoseEstimator):
         self.disparity_floor_px = float(disparity_floor_px)
         self.keypoint_sigma_m = None if keypoint_sigma_m is None else float(keypoint_sigma_m)
         self._body_disparity_px: float | None = None
+        self._side: tuple[PoseLandmarks, str] | None = None   # with "auto": the last left pose's arm
         self.stats = StereoStats()
         self.last: tuple[PoseLandmarks | None, PoseLandmarks | None] = (None, None)
         self._left, self._right = _Track(), _Track()
@@ -386,8 +392,17 @@ class BlazePoseEstimator(PoseEstimator):
                    keypoint_sigma_m=params.get("blazepose.keypoint_sigma_m"))
 
     def reset(self) -> None:
-        """Forget both cameras' tracking state."""
+        """Forget both cameras' tracking state (and, with ``arm="auto"``, the last frame's arm)."""
         self._left, self._right = _Track(), _Track()
+        self._side = None
+
+    def arm_of(self, left: PoseLandmarks) -> str:
+        """Return the arm read from a left pose: ``arm``, or with "auto" the one pointing (``pointing_arm``)."""
+        if self.arm != AUTO:
+            return self.arm
+        if self._side is None or self._side[0] is not left:
+            self._side = (left, pointing_arm(left, None if self._side is None else self._side[1]))
+        return self._side[1]
 
     def estimate(self, left_rect: np.ndarray, right_rect: np.ndarray, rig: StereoRig) -> ArmKeypoints | None:
         """Return the arm in rectified pixels of both images (confidence = visibility), or None."""
@@ -411,7 +426,8 @@ class BlazePoseEstimator(PoseEstimator):
         self.last = (left, right)
         if left is None or right is None:
             return None
-        lxy, (rxy, rconf) = left.arm(self.arm)[0], right.arm(self.arm)
+        side = self.arm_of(left)
+        lxy, (rxy, rconf) = left.arm(side)[0], right.arm(side)
         sigma = None
         if self.joint_disparity == "match":
             rxy = match_joint_disparity(left_rect, right_rect, lxy, rxy, rig.disparity_sign)
@@ -440,7 +456,7 @@ class BlazePoseEstimator(PoseEstimator):
         self.stats.matched += 1
         self._right.update(None, self.tracking)
         self.last = (left, None)
-        lxy, lconf = left.arm(self.arm)
+        lxy, lconf = left.arm(self.arm_of(left))
         rxy, sigma = self._matched_right(lxy, found)
         return self._arm_keypoints(left, rxy, lconf.copy(), sigma)
 
@@ -452,8 +468,9 @@ class BlazePoseEstimator(PoseEstimator):
     def _arm_keypoints(self, left: PoseLandmarks, rxy: np.ndarray, rconf: np.ndarray,
                        sigma: np.ndarray | None) -> ArmKeypoints:
         """Return the arm: the left landmarks' joints, ``rxy`` in the right image, the hand and the errors."""
-        lxy, lconf = left.arm(self.arm)
-        return ArmKeypoints(self.arm, lxy, rxy, lconf, rconf, source="blazepose", extra_left_px=_extra(left, self.arm),
+        side = self.arm_of(left)
+        lxy, lconf = left.arm(side)
+        return ArmKeypoints(side, lxy, rxy, lconf, rconf, source="blazepose", extra_left_px=_extra(left, side),
                             disparity_sigma_px=sigma, keypoint_sigma_m=self.keypoint_sigma_m)
 
     def stereo_joints(self, left_rect: np.ndarray, right_rect: np.ndarray, left: PoseLandmarks,
@@ -465,10 +482,11 @@ class BlazePoseEstimator(PoseEstimator):
             body = body_disparity(left_rect, right_rect, left, sign, self.max_disparity_px)
         if body is None:
             return None
-        xy, _ = left.arm(self.arm)
+        side = self.arm_of(left)
+        xy, _ = left.arm(side)
         found = joint_disparities(left_rect, right_rect, xy, sign * body, sign, rig.focal_px, rig.baseline_m,
                                   patch_m=JOINT_PATCH_M)
-        near = left.z_px[ARM_INDICES[self.arm][0]] <= left.z_px[ARM_INDICES[_OTHER[self.arm]][0]]
+        near = left.z_px[ARM_INDICES[side][0]] <= left.z_px[ARM_INDICES[_OTHER[side]][0]]
         apart = float(np.linalg.norm(left.xy_px[11] - left.xy_px[12]))
         d, sd = shoulder_disparity(sign * body, apart, bool(near), rig.focal_px, rig.baseline_m)
         disp, sigma, matched = found.disparity_px.copy(), found.sigma_px.copy(), found.matched.copy()
@@ -554,10 +572,11 @@ class BlazePoseEstimator(PoseEstimator):
         """Give the early-arm listener the left arm and its right-image position at the body's disparity."""
         if self._early_listener is None:
             return
-        xy, conf = left.arm(self.arm)
+        side = self.arm_of(left)
+        xy, conf = left.arm(side)
         right_xy = xy - np.array([sign * disparity_px, 0.0])
-        self._early_listener(ArmKeypoints(self.arm, xy, right_xy, conf, conf, source="blazepose (right predicted)",
-                                          extra_left_px=_extra(left, self.arm)))
+        self._early_listener(ArmKeypoints(side, xy, right_xy, conf, conf, source="blazepose (right predicted)",
+                                          extra_left_px=_extra(left, side)))
 
 
 _NOSE = 0

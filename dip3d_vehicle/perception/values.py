@@ -28,7 +28,7 @@ class ArmKeypoints:
     """The pointing arm's shoulder, elbow and wrist in both rectified images.
 
     Attributes:
-        arm: "right" or "left".
+        arm: "right" or "left" ("auto": given keypoints of the pointing arm, its side not known).
         left_px: (3, 2) float array, rows in JOINTS order, rectified left-image pixels.
         right_px: (3, 2) float array, rectified right-image pixels.
         left_conf: (3,) per-keypoint confidence in [0, 1] for the left image.

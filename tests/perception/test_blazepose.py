@@ -294,6 +294,21 @@ def test_estimator_from_params_left_arm(pose, photos):
     assert np.array_equal(arm.left_conf, left_pose.visibility[[11, 13, 15]])
 
 
+@pytest.mark.parametrize("flip, side", [(False, "left"), (True, "right")])
+def test_estimator_auto_arm_reads_the_raised_arm(pose, photos, flip, side):
+    """pose.arm auto on a real photo (the person's left arm raised, the right one not seen) and its mirror image."""
+    folder, _ = photos
+    image = cv2.imread(str(folder / "000000196141.jpg"))
+    image = np.ascontiguousarray(cv2.flip(image, 1)) if flip else image
+    est = BlazePoseEstimator(pose, arm="auto", tracking=False)
+    arm = est.estimate(image, image, _rig(image.shape[1], image.shape[0]))
+    assert arm is not None and arm.arm == side and est.arm_of(est.last[0]) == side
+    idx = [12, 14, 16] if side == "right" else [11, 13, 15]
+    assert np.array_equal(arm.left_px, est.last[0].xy_px[idx])
+    with pytest.raises(ValueError, match="'auto'"):
+        BlazePoseEstimator(pose, arm="both")
+
+
 @pytest.mark.parametrize("sign", [1, -1])
 def test_body_disparity_on_texture_both_rig_directions(sign):
     rng = np.random.default_rng(3)

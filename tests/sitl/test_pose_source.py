@@ -12,8 +12,8 @@ from sitl.scenario import load_scenario
 from sitl.simulation import sim_params
 
 
-def _frame(seed: int = 0, t: float = 3.0):
-    sc = load_scenario("paper_pool", seed)
+def _frame(seed: int = 0, t: float = 3.0, scenario: str = "paper_pool"):
+    sc = load_scenario(scenario, seed)
     with StereoRenderer(sc) as r:
         return sc, r.render(*sc.initial_vehicle_pose, t)
 
@@ -78,3 +78,21 @@ def test_blazepose_stereo_joints_give_the_arms_depth_with_a_sigma():
     err = (arm.left_px[:, 0] - arm.right_px[:, 0]) - (t["left"][:, 0] - t["right"][:, 0])
     assert np.all(np.abs(err) <= 3.0 * arm.disparity_sigma_px), (err, arm.disparity_sigma_px)
     assert abs(err[0]) < 2.0, "the shoulder from the torso, not the neck behind it"
+
+
+@pytest.mark.parametrize("arm, found", [("auto", "left"), ("left", "left"), ("right", "right")])
+def test_blazepose_reads_the_left_arm_pointer_with_auto(arm, found):
+    """left_arm: the diver points with the LEFT arm. auto finds it as configuring "left" does; "right" reads the
+    arm that hangs behind the body (BlazePose barely sees it: low confidence, far from the pointing joints)."""
+    sc, frame = _frame(seed=0, t=3.0, scenario="left_arm")
+    rig = sc.rig()
+    pose = SimPose(sim_params(load_params(overrides={"sitl.pose_source": "blazepose", "pose.arm": arm}), sc))
+    left, right = rig.rectify(frame.left, frame.right)
+    got = pose.estimate(left, right, rig)
+    assert got is not None and got.arm == found
+    truth = np.array([frame.meta["keypoints_truth"]["left"][j] for j in ("shoulder", "elbow", "wrist")])
+    err = np.linalg.norm(rig.to_original(np.asarray(got.left_px), "left") - truth, axis=1)
+    if found == "left":
+        assert pose.counts["blazepose"] == 1 and err.max() < 40, err
+    else:
+        assert pose.counts["blazepose (low confidence)"] == 1 and err.max() > 40, err
