@@ -7,9 +7,10 @@ Each file (``DIR/variant_SEED_NN.yaml``) starts from a built-in (``paper_pool`` 
 deep) on one side of the image and the diver (1.8-3.5 m, pointing with the arm on the placards'
 side: the right arm when the diver stands on the left, the left arm when on the right) on the
 other. Layouts are drawn until every two placards are at least ``--min-apart-deg`` apart as seen
-from the diver's chest (a scene the arm can decide: the diver's pointing error is 5 deg) and 6 deg
-apart as seen from the camera (not hiding each other), all of them inside the camera's view. The
-target is the scenario's ``random``: each mission seed picks one.
+from the diver's chest (a scene the arm can decide: the diver's pointing error is 5 deg) and, seen
+from the camera, neither hides the other (their centres farther apart than their half-diagonals plus
+``CAMERA_GAP_DEG``), all of them inside the camera's view. The target is the scenario's ``random``:
+each mission seed picks one.
 
 Run a file like a built-in: ``python -m sitl.point_campaign mission --scenario DIR/variant_7_00.yaml
 --seeds 0-2``. The layouts depend only on ``--seed`` (numpy's generator), so a study can be re-made.
@@ -30,13 +31,16 @@ BASES = {"clear": "paper_pool", "murky": "murky"}
 """The built-in each water kind starts from (camera, water, pose source)."""
 
 DIVER_DEPTH_M = 1.0
-"""Depth of the diver's chest, metres (the vehicle starts at 1.0 m)."""
+"""Depth of the diver's chest, metres."""
+
+CAMERA_DEPTH_M = 1.0
+"""Depth of the camera at the start, metres (both built-in bases start the vehicle at 1.0 m)."""
 
 MAX_BEARING_DEG = 32.0
 """Largest bearing of anything placed, degrees (the camera's half view is 41 deg; the vehicle yaws a little)."""
 
-MIN_CAMERA_APART_DEG = 6.0
-"""Smallest angle between two placards seen from the camera, degrees."""
+CAMERA_GAP_DEG = 3.0
+"""Smallest gap between two placards seen from the camera, beyond their half-diagonals, degrees."""
 
 
 class Layout(dict):
@@ -56,10 +60,17 @@ def _angle_deg(a: np.ndarray, b: np.ndarray) -> float:
     return math.degrees(math.acos(max(-1.0, min(1.0, c))))
 
 
-def _apart(points: list[np.ndarray], seen_from: np.ndarray, min_deg: float) -> bool:
-    """True when every two points are at least ``min_deg`` apart as seen from ``seen_from``."""
+def _apart(points: list[np.ndarray], seen_from: np.ndarray, min_deg: float,
+           radii_m: list[float] | None = None) -> bool:
+    """True when every two points are at least ``min_deg`` apart as seen from ``seen_from`` (degrees).
+
+    ``radii_m``: each point's half-size (metres); the angle they subtend there is added to ``min_deg``.
+    """
     rays = [p - seen_from for p in points]
-    return all(_angle_deg(rays[i], rays[j]) >= min_deg for i in range(len(rays)) for j in range(i))
+    reach = [0.0] * len(rays) if radii_m is None else [
+        math.degrees(math.atan2(r, float(np.linalg.norm(ray)))) for r, ray in zip(radii_m, rays)]
+    return all(_angle_deg(rays[i], rays[j]) >= min_deg + reach[i] + reach[j]
+               for i in range(len(rays)) for j in range(i))
 
 
 def draw_layout(rng: np.random.Generator, water: str, min_apart_deg: float, tries: int = 2000) -> Layout:
@@ -72,7 +83,8 @@ def draw_layout(rng: np.random.Generator, water: str, min_apart_deg: float, trie
                      float(rng.uniform(0.7, 1.4)), float(rng.uniform(0.25, 0.35))) for _ in range(count)]
         points = [_xyz(r, b, d) for r, b, d, _ in placards]
         chest = _xyz(diver[0], diver[1], DIVER_DEPTH_M)
-        if _apart(points, chest, min_apart_deg) and _apart(points, np.zeros(3), MIN_CAMERA_APART_DEG):
+        half_diagonals = [size / math.sqrt(2.0) for *_, size in placards]
+        if _apart(points, chest, min_apart_deg) and _apart(points, np.array([0.0, 0.0, CAMERA_DEPTH_M]), CAMERA_GAP_DEG, half_diagonals):
             return Layout(placards=placards, diver=diver, arm="right" if side > 0 else "left", water=water)
     raise RuntimeError(f"no layout met the rules in {tries} draws (min apart {min_apart_deg} deg)")
 

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from sitl.scenario import load_scenario
-from sitl.variants import _angle_deg, _xyz, main, write_variants
+from sitl.variants import CAMERA_DEPTH_M, _angle_deg, _apart, _xyz, main, write_variants
 
 
 def test_variants_load_and_follow_the_layout_rules(tmp_path):
@@ -43,3 +43,11 @@ def test_cli_writes_files_and_refuses_bad_water(tmp_path, capsys):
     with pytest.raises(SystemExit):
         main(["--out", str(tmp_path), "--water", "lava"])
     assert "lava" in capsys.readouterr().err
+
+
+def test_a_placard_hidden_behind_a_nearer_one_is_refused():
+    """Seen from the camera, two placards' centres 5 deg apart overlap (half-diagonals 7.5 and 3.6 deg)."""
+    camera = np.array([0.0, 0.0, CAMERA_DEPTH_M])
+    near, far = _xyz(1.77, -5.9, 1.0), _xyz(3.13, -9.5, 0.8)
+    assert _apart([near, far], camera, 3.0) and not _apart([near, far], camera, 3.0, [0.23, 0.2])
+    assert _apart([near, _xyz(3.13, -25.0, 0.8)], camera, 3.0, [0.23, 0.2])
