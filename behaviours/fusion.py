@@ -5,12 +5,17 @@ it scored (``Selection.scores``) and ``Selection.none_probability`` that the arm
 detected. The hypotheses over the whole point are the objects (clustered by 3D position across
 frames: the vehicle holds still while it watches) and "none". Their fused log score is
 
-    L(h) = w * sum_frames log max(p_frame(h), floor_p),   w = min(temper, max_effective_frames / n)
+    L(h) = w * sum_frames log max(p_frame(h), floor_p),   w = min(temper, 1 / W, max_effective_frames / n)
 
 (an object a frame did not see gets ``floor_p``: that frame gave it no support), and the fused
 posterior is softmax(L). ``temper`` < 1 accounts for the frames not being independent (the same
-pointing error, the same scene): with ``temper`` = 0.5, six frames count as three independent ones;
-and however long the diver holds, the n frames never count as more than ``max_effective_frames``
+pointing error, the same scene): with ``temper`` = 0.5, six frames count as three independent ones.
+Each frame is decided with the mean arm of the last W frames (``held_arm``,
+``behaviour.fusion_arm_frames``), so one frame's keypoints (and their noise) are in W frames' arms:
+the exponent is at most 1 / W, so that the frames together count each arm they measured once (with
+0.5, an unlucky few frames' noise counted twice: a murky layout's arm leaning 0.63 to the wrong
+placard after 6 frames fused to 0.93, issue 11, session 17). And however long the diver holds, the n
+frames never count as more than ``max_effective_frames``
 independent ones (a systematic lean of an ambiguous selector does not become certainty with time:
 past that, the fused score is the frames' mean log probability times ``max_effective_frames``).
 A frame whose arm was fine but that found no object at all counts as ``no_objects_none_p`` for
@@ -215,8 +220,8 @@ class PointFusion:
 
     @property
     def weight(self) -> float:
-        """The exponent on every frame: ``min(temper, max_effective_frames / frames)``."""
-        return min(self.temper, self.max_effective_frames / max(len(self.frames), 1))
+        """The exponent on every frame: ``min(temper, 1 / arm window, max_effective_frames / frames)``."""
+        return min(self.temper, 1.0 / self.held_arm.window, self.max_effective_frames / max(len(self.frames), 1))
 
     def _log(self, p: float) -> float:
         return math.log(max(float(p), self.floor_p))

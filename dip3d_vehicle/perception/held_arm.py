@@ -44,6 +44,11 @@ class HeldArm:
     def __len__(self) -> int:
         return len(self.arms)
 
+    @property
+    def window(self) -> int:
+        """How many frames' arms one mean holds (``behaviour.fusion_arm_frames``)."""
+        return int(self.arms.maxlen or 1)
+
     def mean(self) -> ArmKeypoints | None:
         """Return the mean arm of the window (pixels; confidences: the lowest seen), or None if empty."""
         if not self.arms:
