@@ -21,6 +21,7 @@ from __future__ import annotations
 import argparse
 import math
 import sys
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -43,9 +44,14 @@ CAMERA_GAP_DEG = 3.0
 """Smallest gap between two placards seen from the camera, beyond their half-diagonals, degrees."""
 
 
-class Layout(dict):
-    """One drawn layout: ``placards`` [(range_m, bearing_deg, depth_m, size_m)], ``diver`` (range_m,
-    bearing_deg), ``arm``, ``water``."""
+@dataclass(frozen=True)
+class Layout:
+    """One drawn layout (metres and degrees, range and bearing from the camera)."""
+
+    placards: list[tuple[float, float, float, float]]   # (range_m, bearing_deg, depth_m, size_m) each
+    diver: tuple[float, float]                          # (range_m, bearing_deg)
+    arm: str
+    water: str
 
 
 def _xyz(range_m: float, bearing_deg: float, depth_m: float) -> np.ndarray:
@@ -91,16 +97,16 @@ def draw_layout(rng: np.random.Generator, water: str, min_apart_deg: float, trie
 
 def layout_yaml(layout: Layout, name: str) -> str:
     """Return the scenario file's text for a layout."""
-    r, b = layout["diver"]
+    r, b = layout.diver
     lines = [f"# {name}: drawn by sitl.variants (a layout nobody tuned on)",
-             f"base: {BASES[layout['water']]}",
-             f'description: "{name}: {len(layout["placards"])} placards, diver at {r:.1f} m, '
-             f'{layout["arm"]} arm, {layout["water"]} water"',
+             f"base: {BASES[layout.water]}",
+             f'description: "{name}: {len(layout.placards)} placards, diver at {r:.1f} m, '
+             f'{layout.arm} arm, {layout.water} water"',
              "placards:"]
-    for i, (pr, pb, pd, size) in enumerate(layout["placards"], start=1):
+    for i, (pr, pb, pd, size) in enumerate(layout.placards, start=1):
         lines.append(f"  - {{id: {i}, range_m: {pr:.2f}, bearing_deg: {pb:.1f}, depth_m: {pd:.2f}, size_m: {size:.2f}}}")
     lines += ["diver:", "  positions:", f'    - {{name: "v", range_m: {r:.2f}, bearing_deg: {b:.1f}, '
-              f"depth_m: {DIVER_DEPTH_M}}}", f"  arm: {layout['arm']}", "  target: random", ""]
+              f"depth_m: {DIVER_DEPTH_M}}}", f"  arm: {layout.arm}", "  target: random", ""]
     return "\n".join(lines)
 
 
