@@ -51,3 +51,21 @@ def test_a_placard_hidden_behind_a_nearer_one_is_refused():
     near, far = _xyz(1.77, -5.9, 1.0), _xyz(3.13, -9.5, 0.8)
     assert _apart([near, far], camera, 3.0) and not _apart([near, far], camera, 3.0, [0.23, 0.2])
     assert _apart([near, _xyz(3.13, -25.0, 0.8)], camera, 3.0, [0.23, 0.2])
+
+
+def test_small_share_points_at_a_placard_too_small_to_detect(tmp_path):
+    """--small-share 1: every layout's target is its 4 cm placard, under the same separation rules;
+    --small-share 0 leaves the layouts of the seed as they were."""
+    from sitl.variants import SMALL_RANGE_M, SMALL_SIZE_M
+    for path in write_variants(tmp_path / "small", 4, 5, ["clear", "murky"], 15.0, small_share=1.0):
+        sc = load_scenario(str(path), 0)
+        target = next(p for p in sc.placards if p.id == sc.target_id)
+        assert target.size_m == pytest.approx(SMALL_SIZE_M) and "nothing there" in path.read_text()
+        assert 3 <= len(sc.placards) <= 5 and sum(p.size_m < 0.1 for p in sc.placards) == 1
+        assert SMALL_RANGE_M[0] - 0.6 <= np.linalg.norm(np.asarray(target.centre_ned_m)[:2]) <= SMALL_RANGE_M[1] + 0.6
+        chest = np.asarray(sc.diver.chest_ned_m)
+        others = [np.asarray(p.centre_ned_m) - chest for p in sc.placards if p.id != sc.target_id]
+        assert min(_angle_deg(np.asarray(target.centre_ned_m) - chest, o) for o in others) >= 15.0 - 0.5
+    plain = [p.read_text() for p in write_variants(tmp_path / "a", 3, 5, ["clear"], 15.0)]
+    none = [p.read_text() for p in write_variants(tmp_path / "b", 3, 5, ["clear"], 15.0, small_share=0.0)]
+    assert plain == none and all("target: random" in t for t in plain)
