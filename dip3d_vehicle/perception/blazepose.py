@@ -27,7 +27,7 @@ from ..models import model_path
 from .blazepose_decode import DETECTOR_SIZE, decode, weighted_nms
 from .blazepose_roi import Roi, crop_matrix, letterbox_matrix, roi_from_points, warp
 from .calibration import StereoRig
-from .joint_stereo import (JointDisparity, joint_disparities, match_joint_disparity, shoulder_disparity,
+from .joint_stereo import (JointDisparity, joint_disparities, match_joint_disparity, in_front_of_body, shoulder_disparity,
                            subpixel_peak as _subpixel)
 from .pointing_arm import AUTO, pointing_arm
 from .pose import ARM_INDICES, PoseEstimator
@@ -53,6 +53,7 @@ JOINT_PATCH_M = 0.12
 """Side of the patch matched around an elbow or wrist for ``stereo``, metres at the body's depth (wrist
 disparity error on paper_pool's diver at 3 m: std 0.9 px at 0.12 m, 1.1 at 0.09, 2.2 at 0.06; issue 14)."""
 _OTHER = {"right": "left", "left": "right"}
+_BODY = (0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 23, 24)   # head, shoulders, hips: what an arm in front hides
 Contrast = tuple[np.ndarray, np.ndarray]
 """Per-channel (low, high) levels of a contrast stretch, in the image's channel order."""
 
@@ -489,6 +490,9 @@ class BlazePoseEstimator(PoseEstimator):
         near = left.z_px[ARM_INDICES[side][0]] <= left.z_px[ARM_INDICES[_OTHER[side]][0]]
         apart = float(np.linalg.norm(left.xy_px[11] - left.xy_px[12]))
         d, sd = shoulder_disparity(sign * body, apart, bool(near), rig.focal_px, rig.baseline_m)
+        torso = float(np.linalg.norm(left.xy_px[[11, 12]].mean(axis=0) - left.xy_px[[23, 24]].mean(axis=0)))
+        found = in_front_of_body(found, xy, left.xy_px[list(_BODY)], torso, sign * body, rig.focal_px, rig.baseline_m,
+                                 JOINT_PATCH_M)
         disp, sigma, matched = found.disparity_px.copy(), found.sigma_px.copy(), found.matched.copy()
         disp[0], sigma[0], matched[0] = d, sd, False
         return JointDisparity(disp, sigma, matched, found.score)

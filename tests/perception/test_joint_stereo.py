@@ -271,3 +271,40 @@ def test_a_matched_shoulder_counts_as_the_torso_behind_it(tmp_path):
     one_px = (truth[0] - raw.disparity_px[0]) * 1.0 / (1.0 + w)    # the shoulder's error with a 1 px match sigma
     assert err[0] < 0.7 * one_px and err[0] < 1.5, (err, one_px)
     assert np.all(err[1:] < 1.0), err
+
+
+def test_a_joint_matched_on_the_body_it_hides_is_put_in_front_of_it():
+    """An elbow / wrist seen over the body (or within half a patch of it), foreshortened, and matched at the
+    body's depth matched the body behind it: it moves to the middle of the arm's reach in front of the body,
+    with half that span as sigma, unmatched; a joint matched well in front, one beside the body, an arm held
+    in the image plane, and the shoulder are kept."""
+    from dip3d_vehicle.perception.joint_stereo import (ARM_REACH_M, JointDisparity, TORSO_DEPTH_M,
+                                                       in_front_of_body)
+
+    f, b = 920.0, 0.12
+    fb, body = f * b, 22.0                                   # the body at ~5 m
+    depth = fb / body
+    hull = np.array([[600.0, 480], [640, 480], [640, 620], [600, 620]])          # head, shoulders, hips
+    found = JointDisparity(np.array([22.8, 22.3, 22.4]), np.array([1.5, 3.8, 1.5]), np.array([False, True, True]),
+                           np.array([np.nan, 0.9, 0.9]))
+    over = np.array([[620.0, 530], [630, 520], [645.0, 500]])    # the wrist 5 px beside the hull: its patch overlaps
+    torso = 90.0    # from the shoulder: elbow 14 px, wrist 39 px, against 0.7 x 0.5 / 0.95 x 90 = 31 / 60 px: foreshortened
+    out = in_front_of_body(found, over, hull, torso, body, f, b, patch_m=0.12)
+    front, middle = fb / (depth - ARM_REACH_M), fb / (depth - 0.5 * ARM_REACH_M)
+    assert out.disparity_px[0] == 22.8 and out.sigma_px[0] == 1.5               # the shoulder is the body's own
+    for k in (1, 2):
+        assert not out.matched[k] and np.isclose(out.disparity_px[k], middle)
+        assert np.isclose(out.sigma_px[k], max(found.sigma_px[k], 0.5 * (front - body)))   # never narrower
+    assert middle - 1.1 * out.sigma_px[2] < fb / (depth - 0.6) < middle + out.sigma_px[2]   # a fist 0.6 m in front
+    # matched well in front of the body (beyond TORSO_DEPTH_M), or beside it: kept
+    tol = fb / (depth - TORSO_DEPTH_M) - body
+    near = JointDisparity(np.array([22.8, body + 2 * tol, 25.5]), found.sigma_px, found.matched, found.score)
+    assert np.array_equal(in_front_of_body(near, over, hull, torso, body, f, b).disparity_px, near.disparity_px)
+    beside = np.array([[620.0, 530], [700, 520], [720.0, 500]])
+    kept = in_front_of_body(found, beside, hull, torso, body, f, b)
+    assert np.array_equal(kept.disparity_px, found.disparity_px) and np.array_equal(kept.matched, found.matched)
+    in_plane = np.array([[620.0, 530], [622, 580], [625.0, 615]])   # hanging in the image plane, over the hips
+    assert np.array_equal(in_front_of_body(found, in_plane, hull, torso, body, f, b).disparity_px, found.disparity_px)
+    # the rig's other sign: the same magnitudes, negative
+    neg = JointDisparity(-found.disparity_px, found.sigma_px, found.matched, found.score)
+    assert np.allclose(in_front_of_body(neg, over, hull, torso, -body, f, b).disparity_px, -out.disparity_px)
