@@ -15,13 +15,12 @@ Each frame is decided with the mean arm of the last W frames (``held_arm``,
 the exponent is at most 1 / W, so that the frames together count each arm they measured once (with
 0.5, an unlucky few frames' noise counted twice: a murky layout's arm leaning 0.63 to the wrong
 placard after 6 frames fused to 0.93, issue 11, session 17). And however long the diver holds, the n
-frames never count as more than ``max_effective_frames``
-independent ones (a systematic lean of an ambiguous selector does not become certainty with time:
-past that, the fused score is the frames' mean log probability times ``max_effective_frames``).
-A frame whose arm was fine but that found no object at all counts as ``no_objects_none_p`` for
-"none". The geometry is averaged too: each object's position is the probability-weighted mean of
-its sightings. Every frame's part (its log probability per hypothesis) is kept for the story and
-the log.
+frames never count as more than ``max_effective_frames`` independent ones (a systematic lean of an
+ambiguous selector does not become certainty with time: past that, the fused score is the frames'
+mean log probability times ``max_effective_frames``). A frame whose arm was fine but that found no
+object at all counts as ``no_objects_none_p`` for "none". The geometry is averaged too: each
+object's position is the probability-weighted mean of its sightings. Every frame's part (its log
+probability per hypothesis) is kept for the story and the log.
 
 The frames of one held point share errors no number of frames averages away: the diver's own
 pointing error (the arm aims a few degrees off the object, the same in every frame) and, with a pose

@@ -27,8 +27,8 @@ from ..models import model_path
 from .blazepose_decode import DETECTOR_SIZE, decode, weighted_nms
 from .blazepose_roi import Roi, crop_matrix, letterbox_matrix, roi_from_points, warp
 from .calibration import StereoRig
-from .joint_stereo import (JointDisparity, joint_disparities, match_joint_disparity, in_front_of_body, shoulder_disparity,
-                           subpixel_peak as _subpixel)
+from .joint_stereo import (JointDisparity, in_front_of_body, joint_disparities, match_joint_disparity,
+                           shoulder_disparity, subpixel_peak as _subpixel)
 from .pointing_arm import AUTO, pointing_arm
 from .pose import ARM_INDICES, PoseEstimator
 from .values import ArmKeypoints

@@ -219,9 +219,13 @@ torso's length (shoulders' to hips' midpoints, ~0.5 m for an adult: upper arm 0.
 wrist 0.55-0.6 m): the person's own scale in the image, whatever the stereo depth says."""
 
 
-def _inside(point: np.ndarray, polygon: np.ndarray, margin_px: float = 0.0) -> bool:
-    """True when a pixel lies inside the convex hull of a polygon's points or within ``margin_px`` of it, pixels."""
-    hull = cv2.convexHull(np.asarray(polygon, np.float32).reshape(-1, 1, 2))
+def _hull(points_px: np.ndarray) -> np.ndarray:
+    """Return the convex hull of image points as OpenCV wants it, pixels."""
+    return cv2.convexHull(np.asarray(points_px, np.float32).reshape(-1, 1, 2))
+
+
+def _inside(point: np.ndarray, hull: np.ndarray, margin_px: float = 0.0) -> bool:
+    """True when a pixel lies inside a convex hull (``_hull``) or within ``margin_px`` of it, pixels."""
     return cv2.pointPolygonTest(hull, (float(point[0]), float(point[1])), True) > -margin_px
 
 
@@ -234,28 +238,34 @@ def in_front_of_body(found: JointDisparity, left_xy: np.ndarray, body_px: np.nda
     the body with a narrow, confident peak. From 4.5-5 m (far_diver, BlazePose) the wrist, seen over
     the head, was matched at the body's disparity (1.5 px sigma) 3-4 px (0.6-0.8 m) behind the fist
     in 17 of 38 frames, which turned the arm away from the camera (80-136 deg of error; issue 14,
-    session 18). Such a joint (left pixel inside the hull of ``body_px``, the head's, shoulders' and
-    hips' landmarks, or within half its patch, ``patch_m`` wide, of it; seen nearer its shoulder than
-    ``FORESHORTENED`` of its limb's plausible length, scaled by the torso's image length ``torso_px``,
-    so out of the image plane; matched within
-    ``TORSO_DEPTH_M`` of the body's depth) hides the body, so it
-    lies in front of it, by up to ``ARM_REACH_M``: its disparity becomes that of the middle of that
-    span and its sigma half the span's (unmatched). The shoulder (row 0) is the body's own and is
-    left as it is.
+    session 18). Such a joint hides the body, so it lies in front of it, by up to ``ARM_REACH_M``:
+    its disparity becomes that of the middle of that span and its sigma half the span's (never
+    narrower than its own), and it counts as unmatched. A joint is such when it is
+
+    - seen over the body: its left pixel inside the hull of ``body_px`` (the head's, shoulders' and
+      hips' landmarks) or within half its patch (``patch_m`` wide) of it;
+    - foreshortened: nearer its shoulder than ``FORESHORTENED`` of its limb's plausible length,
+      scaled by the torso's image length ``torso_px`` (so out of the image plane);
+    - matched within ``TORSO_DEPTH_M`` of the body's depth.
+
+    The shoulder (row 0) is the body's own and is left as it is.
     """
     fb = focal_px * baseline_m
     sign = 1.0 if body_disparity_px >= 0 else -1.0
     body = abs(body_disparity_px)
-    depth = fb / max(body, 1e-6)
-    tol = fb / max(depth - TORSO_DEPTH_M, 0.1) - body
-    front = fb / max(depth - ARM_REACH_M, 0.3)
-    middle = fb / max(depth - 0.5 * ARM_REACH_M, 0.3)
-    margin = 0.5 * patch_m * focal_px / depth
+    tol = reach_disparities(body, fb, TORSO_DEPTH_M, min_depth_m=0.1)[1] - body
+    front = reach_disparities(body, fb)[1]
+    middle = reach_disparities(body, fb, 0.5 * ARM_REACH_M)[1]
+    margin = 0.5 * patch_m * body / baseline_m          # half the patch at the body's depth, pixels
     disp, sigma, matched = found.disparity_px.copy(), found.sigma_px.copy(), found.matched.copy()
     xy = np.asarray(left_xy, float)
+    hull = None
     for k in range(1, len(xy)):
         short = float(np.linalg.norm(xy[k] - xy[0])) < FORESHORTENED * LIMB_PER_TORSO[k] * torso_px
-        if matched[k] and short and abs(abs(disp[k]) - body) <= tol and _inside(xy[k], body_px, margin):
+        if not (matched[k] and short and abs(abs(disp[k]) - body) <= tol):
+            continue
+        hull = _hull(body_px) if hull is None else hull
+        if _inside(xy[k], hull, margin):
             disp[k], sigma[k], matched[k] = sign * middle, max(sigma[k], 0.5 * (front - body)), False
     return JointDisparity(disp, sigma, matched, found.score.copy())
 
