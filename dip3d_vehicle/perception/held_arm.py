@@ -17,6 +17,7 @@ from collections import deque
 
 import numpy as np
 
+from .blobs import unexplained
 from .filters import pose_rejection
 from .pipeline import Perception, PerceptionResult
 from .selection import DefaultSelector
@@ -83,10 +84,13 @@ def decide_held(perception: Perception, arm: ArmKeypoints, frames: int, result: 
         return result
     held = copy.copy(selector)
     held.model = dataclasses.replace(selector.model, keypoint_sigma_px=selector.model.keypoint_sigma_px * scale)
-    sel = held.select(arm, arm3d, result.candidates, result.candidates_xyz_m, perception.rig)
+    spots = result.unrecognised
+    sel = held.select(arm, arm3d, result.candidates, result.candidates_xyz_m, perception.rig,
+                      lambda px, xyz, joints: unexplained(spots, xyz, px, joints))
     if sel.nothing_on_ray:
         return PerceptionResult("nothing_on_ray", sel.reason, arm, arm3d, result.candidates,
-                                result.candidates_xyz_m, sel, result.timings_ms)
+                                result.candidates_xyz_m, sel, result.timings_ms, unrecognised=spots)
     if sel.index is None:
         return result
-    return PerceptionResult("ok", "", arm, arm3d, result.candidates, result.candidates_xyz_m, sel, result.timings_ms)
+    return PerceptionResult("ok", "", arm, arm3d, result.candidates, result.candidates_xyz_m, sel, result.timings_ms,
+                            unrecognised=spots)

@@ -22,7 +22,7 @@ from .values import ArmKeypoints
 
 __all__ = ["JOINT_FLOOR_FACTOR", "MATCH_GROSS_SIGMAS", "match_arm", "match_joint_disparity", "subpixel_peak",
            "joint_disparities", "JointDisparity", "reach_disparities", "shoulder_disparity", "SHOULDER_WIDTH_M",
-           "ARM_REACH_M", "TORSO_DEPTH_M", "in_front_of_body"]
+           "ARM_REACH_M", "TORSO_DEPTH_M", "in_front_of_body", "match_point"]
 
 
 def _grey(patch: np.ndarray) -> np.ndarray:
@@ -131,9 +131,14 @@ def _scores_along_row(template: np.ndarray, image: np.ndarray, y: int, x0: int, 
     return cv2.matchTemplate(strip, template, cv2.TM_CCOEFF_NORMED)[0]
 
 
-def _match_one(left: np.ndarray, right: np.ndarray, x: int, y: int, d_lo: float, d_hi: float, sign: int,
+def match_point(left: np.ndarray, right: np.ndarray, x: int, y: int, d_lo: float, d_hi: float, sign: int,
                half: int, min_score: float, lr_tolerance_px: float) -> tuple[float, float, float] | None:
-    """Return (disparity magnitude, sigma, score) of one left pixel's match along its row, or None."""
+    """Return (disparity magnitude, sigma, score) of one left pixel's match along its row, or None (pixels).
+
+    The patch (``half`` pixels each side) is searched over disparities ``d_lo``..``d_hi``; the match counts
+    when its score reaches ``min_score``, its peak is inside the span, and the right patch found back in
+    the left image lands within ``lr_tolerance_px`` of x.
+    """
     h, w = left.shape[:2]
     if not (half <= y < h - half and half <= x < w - half):
         return None
@@ -195,7 +200,7 @@ def joint_disparities(left: np.ndarray, right: np.ndarray, left_xy: np.ndarray, 
     for k, (xl, yl) in enumerate(np.asarray(left_xy, float)):
         if not (math.isfinite(xl) and math.isfinite(yl)):
             continue
-        found = _match_one(left, right, int(round(xl)), int(round(yl)), d_lo, d_hi, sign, half, min_score,
+        found = match_point(left, right, int(round(xl)), int(round(yl)), d_lo, d_hi, sign, half, min_score,
                            lr_tolerance_px)
         if found is None:
             continue

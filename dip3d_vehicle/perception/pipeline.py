@@ -17,6 +17,7 @@ import numpy as np
 
 from .calibration import StereoRig
 from .candidates import CandidateDetector, SiftDetector
+from .blobs import BlobFinder, Blobs, unexplained
 from .corridor import CorridorDetector, merge_candidates
 from .filters import candidate_keep, pose_rejection
 from .joint_stereo import match_arm
@@ -46,6 +47,8 @@ class PerceptionResult:
         timings_ms: milliseconds per stage.
         candidates_followed: the candidates were followed from earlier frames (``candidates.reuse_frames``),
             not computed on this frame alone.
+        unrecognised: the compact spots found along the corridor outside every object, matched to 3D
+            (``corridor.blobs``; the selector counts those no object explains as "nothing detected").
     """
 
     status: str
@@ -57,6 +60,7 @@ class PerceptionResult:
     selection: Selection | None = None
     timings_ms: dict = field(default_factory=dict)
     candidates_followed: bool = False
+    unrecognised: Blobs = field(default_factory=Blobs.empty)
 
     @property
     def target_rect_px(self) -> np.ndarray | None:
@@ -133,6 +137,7 @@ class Perception:
         self.detector = detector or SiftDetector.from_params(params)
         self.selector = selector or make_selector(params)
         self.corridor = CorridorDetector.from_params(params) if params.get("corridor.enabled") else None
+        self.blobs = BlobFinder.from_params(params) if self.corridor is not None and params.get("corridor.blobs") else None
         self.Q = normalize_q(rig.Q, rig.disparity_sign)
         # With pose tracking the frames are a sequence: the previous frame's arm predicts where the
         # candidates' features are, so they are computed while the pose runs (SiftDetector.prefetch);
@@ -219,7 +224,8 @@ class Perception:
         if reusable:
             cands = self._reused_candidates(left_rect, right_rect, arm, tm)
             if cands is not None:
-                return dataclasses.replace(self._decided(early, cands, tm), candidates_followed=True)
+                return dataclasses.replace(self._decided(early, cands, tm, (left_rect, right_rect)),
+                                           candidates_followed=True)
         with clock("candidates"):
             cands = detector.detect(left_rect, right_rect, arm, self.rig)
         split = getattr(detector, "last_timings_ms", None) or {}
@@ -230,7 +236,8 @@ class Perception:
             found = self._corridor_found(left_rect, right_rect, arm)
         if self.reuse is not None:
             self.reuse.fresh(cands, found, arm, self.rig, start_pass=detector is not self.detector)
-        return self._decided(early, merge_candidates(cands, found) if found is not None else cands, tm)
+        return self._decided(early, merge_candidates(cands, found) if found is not None else cands, tm,
+                             (left_rect, right_rect))
 
     def _reused_candidates(self, left_rect: np.ndarray, right_rect: np.ndarray, arm: ArmKeypoints,
                            tm: dict) -> Candidates | None:
@@ -251,9 +258,10 @@ class Perception:
         self.reuse.counts["reused"] += 1
         return merge_candidates(main, found) if found is not None else main
 
-    def _decided(self, checked: PerceptionResult, cands: Candidates, tm: dict) -> PerceptionResult:
+    def _decided(self, checked: PerceptionResult, cands: Candidates, tm: dict,
+                 images: tuple[np.ndarray, np.ndarray]) -> PerceptionResult:
         """Decide, then start the next background candidate pass on this frame when one is due."""
-        result = self.decide(checked, cands, tm)
+        result = self.decide(checked, cands, tm, images)
         if self.reuse is not None:
             self.reuse.schedule(checked.arm, self.rig)
         return result
@@ -320,8 +328,13 @@ class Perception:
                              arm3d.depth_sigma_m, self.params["filters.joint_dz_sigmas"])
         return PerceptionResult("pose_rejected" if why else "ok", why or "", arm, arm3d)
 
-    def decide(self, checked: PerceptionResult, cands: Candidates, timings: dict | None = None) -> PerceptionResult:
-        """Triangulate and filter candidates, then select, for an arm that passed ``check_arm``."""
+    def decide(self, checked: PerceptionResult, cands: Candidates, timings: dict | None = None,
+               images: tuple[np.ndarray, np.ndarray] | None = None) -> PerceptionResult:
+        """Triangulate and filter candidates, then select, for an arm that passed ``check_arm``.
+
+        ``images``: the rectified pair, for the unrecognised spots along the corridor (``corridor.blobs``);
+        without them the selector weighs the recognised objects only.
+        """
         tm = dict(timings or {})
         clock = _Stopwatch(tm)
         arm, arm3d = checked.arm, checked.arm3d
@@ -331,14 +344,33 @@ class Perception:
             cands, xyz = cands.subset(keep), xyz[keep]
         if len(cands) == 0:
             return PerceptionResult("no_candidates", "no matched features in the kept region", arm, arm3d, timings_ms=tm)
+        found: list[Blobs] = []
         with clock("select"):
-            sel = self.selector.select(arm, arm3d, cands, xyz, self.rig)
+            sel = self.selector.select(arm, arm3d, cands, xyz, self.rig, self._unrecognised(images, arm, found))
+        spots = found[0] if found else Blobs.empty()
         if sel.nothing_on_ray:
-            return PerceptionResult("nothing_on_ray", sel.reason, arm, arm3d, cands, xyz, sel, tm)
+            return PerceptionResult("nothing_on_ray", sel.reason, arm, arm3d, cands, xyz, sel, tm, unrecognised=spots)
         if sel.index is None:
             return PerceptionResult("no_candidates", "no object with enough matched features", arm, arm3d,
-                                    cands, xyz, sel, tm)
-        return PerceptionResult("ok", "", arm, arm3d, cands, xyz, sel, tm)
+                                    cands, xyz, sel, tm, unrecognised=spots)
+        return PerceptionResult("ok", "", arm, arm3d, cands, xyz, sel, tm, unrecognised=spots)
+
+    def _unrecognised(self, images: tuple[np.ndarray, np.ndarray] | None, arm: ArmKeypoints, found: list[Blobs]):
+        """Return the selector's source of unrecognised spots along ``arm``'s corridor (None: off or no images).
+
+        The spots are looked for once the objects are known (their own texture is skipped); what was
+        found is appended to ``found`` (for the result, and a later decision with a held arm).
+        """
+        if images is None or self.blobs is None or self.corridor is None:
+            return None
+        left, right = images
+        poly = self.corridor.wedge(arm, left.shape[1], left.shape[0], self.rig)
+
+        def source(known_px: list, known_xyz: list, joints_xyz_m: np.ndarray) -> Blobs:
+            blobs = self.blobs.find(left, right, poly, self.rig, known_px)
+            found.append(blobs)
+            return unexplained(blobs, known_xyz, known_px, joints_xyz_m)
+        return source
 
     def triangulate_arm(self, arm: ArmKeypoints, prior_sigma_px: float | None = None) -> Arm3D:
         """Triangulate the three joints; depth sigma from this frame's keypoint noise or the estimator's (metres).

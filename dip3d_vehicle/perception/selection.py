@@ -27,12 +27,13 @@ from __future__ import annotations
 import math
 from abc import ABC, abstractmethod
 from dataclasses import dataclass
-from typing import Mapping
+from typing import Callable, Mapping
 
 import numpy as np
 from scipy.spatial import cKDTree
 
 from .calibration import StereoRig
+from .blobs import Blobs
 from .evidence import arm_evidence
 from .triangulation import normalize_q, triangulate
 from .values import Arm3D, ArmKeypoints, Candidates, ObjectCandidate, Selection
@@ -48,6 +49,10 @@ MAX_TILT_SIGMA_RAD = 0.25
 limb lengths bound the tilt of an arm seen at its full image length to about +-25 deg, whose
 standard deviation is 0.25 rad, however noisy the stereo depths of the joints."""
 
+UnrecognisedSource = Callable[[list, list, np.ndarray], Blobs]
+"""Called with the objects' feature pixels and 3D points (lists of arrays) and the arm's joints (3, 3), metres:
+returns the unrecognised things along the arm that none of them explains (``Perception``'s blob finder)."""
+
 MATCH_SIGMA_PX = 0.3
 """Assumed disparity error of a matched feature, pixels (SIFT on Middlebury: median error 0.1-0.3 px)."""
 
@@ -59,8 +64,12 @@ class PointingSelector(ABC):
 
     @abstractmethod
     def select(self, arm: ArmKeypoints, arm3d: Arm3D, candidates: Candidates, xyz_m: np.ndarray,
-               rig: StereoRig) -> Selection:
-        """Return the selection among ``candidates`` (rectified px) with 3D points ``xyz_m``."""
+               rig: StereoRig, unrecognised: UnrecognisedSource | None = None) -> Selection:
+        """Return the selection among ``candidates`` (rectified px) with 3D points ``xyz_m``.
+
+        ``unrecognised``: where to find the things along the arm no object explains (``blobs.py``);
+        a selector that cannot use them ignores it.
+        """
 
 
 def paper_distances(wrist: np.ndarray, elbow: np.ndarray, points: np.ndarray, extension: float) -> np.ndarray:
@@ -82,8 +91,8 @@ class PaperSelector(PointingSelector):
         self.extension_factor = extension_factor
 
     def select(self, arm: ArmKeypoints, arm3d: Arm3D, candidates: Candidates, xyz_m: np.ndarray,
-               rig: StereoRig) -> Selection:
-        """Score every matched feature by D_i and choose the smallest."""
+               rig: StereoRig, unrecognised: UnrecognisedSource | None = None) -> Selection:
+        """Score every matched feature by D_i and choose the smallest (the paper knows no unrecognised things)."""
         dist = paper_distances(arm3d.joint("wrist"), arm3d.joint("elbow"), xyz_m, self.extension_factor)
         sig = rig.depth_sigma_m(xyz_m[:, 2], MATCH_SIGMA_PX)
         objects = tuple(ObjectCandidate(candidates.left_px[i], xyz_m[i], float(sig[i]), (i,))
@@ -231,6 +240,7 @@ class _PointingFit:
                  keypoint_sigma_m: float = 0.0) -> None:
         self.rays, self.depth_m, self.sigma = rays, depth_m, np.maximum(depth_sigma_m, 0.01)
         self.model = model
+        self._arm_cost: float | None = None
         # a joint placed keypoint_sigma_m off its centre, across the ray (the pose model's own error at the
         # body): each limb's length and the arm's bend are known no better than that, its direction no
         # better than that over the arm's length
@@ -302,8 +312,10 @@ class _PointingFit:
         The pointing term is free (any point along the fitted arm's ray fits it exactly), so what
         remains is the arm's own terms; an object's cost minus this is what pointing at it costs.
         """
-        x = np.maximum(self.depth_m[None, :].copy(), 0.05)
-        return float(_levenberg_marquardt(lambda z: np.column_stack(self.arm_terms(z)), x, iterations)[0])
+        if self._arm_cost is None:
+            x = np.maximum(self.depth_m[None, :].copy(), 0.05)
+            self._arm_cost = float(_levenberg_marquardt(lambda z: np.column_stack(self.arm_terms(z)), x, iterations)[0])
+        return self._arm_cost
 
     def starts(self, obj_ray: np.ndarray, obj_depth: np.ndarray) -> np.ndarray:
         """Return (B, 4) starts aiming the arm from the measured wrist at each object."""
@@ -463,19 +475,25 @@ class DefaultSelector(PointingSelector):
 
     def __init__(self, model: ArmModel = ArmModel(), group_radius_px: float = 20.0, group_radius_m: float = 0.05,
                  min_object_features: int = 3, min_confidence: float = 0.6, object_radius_m: float = 0.15,
-                 open_set: OpenSet = OpenSet(), evidence: str = "laplace", evidence_samples: int = 2048) -> None:
+                 open_set: OpenSet = OpenSet(), evidence: str = "laplace", evidence_samples: int = 2048,
+                 unrecognised_weight: float = 1.0) -> None:
         self.model, self.open_set = model, open_set
+        self.unrecognised_weight = unrecognised_weight
         self.evidence, self.evidence_samples = evidence, evidence_samples
         self.object_radius_m = object_radius_m
         self.group_radius_px, self.group_radius_m = group_radius_px, group_radius_m
         self.min_object_features, self.min_confidence = min_object_features, min_confidence
 
     def select(self, arm: ArmKeypoints, arm3d: Arm3D, candidates: Candidates, xyz_m: np.ndarray,
-               rig: StereoRig) -> Selection:
+               rig: StereoRig, unrecognised: UnrecognisedSource | None = None) -> Selection:
         """Group candidates into objects, fit the pointing hypothesis for each, return the posterior.
 
         The hypotheses are "the arm points at object i" for every object and "it points at
-        something that was not detected"; their probabilities are absolute (they sum to 1).
+        something that was not detected"; their probabilities are absolute (they sum to 1). The
+        latter includes each unrecognised thing ``unrecognised`` finds along the arm (a compact spot
+        no object explains: ``blobs.py``), scored by the same pointing fit as an object, with an
+        object's prior times ``unrecognised_weight``: never chosen, its probability is "nothing
+        detected"'s.
         """
         objects = group_objects(candidates, xyz_m, rig, self.group_radius_px, self.group_radius_m,
                                 self.min_object_features, self.object_radius_m)
@@ -501,14 +519,15 @@ class DefaultSelector(PointingSelector):
                                   np.array([o.depth_sigma_m for o in kept]), shapes[idx])
                 log_odds[idx] = self._log_odds(costs, fit.arm_cost(), kept, arm, arm3d, fit.pointing_sigma_rad,
                                                len(objects))
-        top = max(float(log_odds.max()), 0.0)
+        spots = self._unrecognised_log_odds(unrecognised, fit, arm, arm3d, objects, candidates, xyz_m, rig)
+        top = max(float(log_odds.max()), 0.0, float(spots.max(initial=0.0)))
         weights = np.exp(log_odds - top)
-        none_weight = math.exp(-top)
+        none_weight = math.exp(-top) + float(np.exp(spots - top).sum())
         total = float(weights.sum()) + none_weight
         post, p_none = weights / total, none_weight / total
         order = np.argsort(-log_odds)
         best = int(order[0])
-        ranked = sorted([*log_odds.tolist(), 0.0], reverse=True)
+        ranked = sorted([*log_odds.tolist(), math.log(none_weight) + top], reverse=True)
         margin = (ranked[0] - ranked[1]) if len(ranked) > 1 else math.inf
         # "nothing detected" is the answer when it is the confident winner (or no object is allowed);
         # when it merely leads, the best object is returned flagged ambiguous: no decision either way
@@ -516,7 +535,8 @@ class DefaultSelector(PointingSelector):
         # the best object's probability is that of every object whose points touch it
         mass = float(post[_touching(objects, xyz_m, best, self.open_set.same_target_gap_m)].sum())
         if not np.isfinite(log_odds[best]) or (p_none >= mass and p_none >= self.open_set.none_min_probability):
-            why = (f"the arm points at nothing detected (P {p_none:.2f}); best object P {mass:.2f}"
+            seen = f", {len(spots)} unrecognised thing(s) along it" if len(spots) else ""
+            why = (f"the arm points at nothing detected (P {p_none:.2f}{seen}); best object P {mass:.2f}"
                    if np.isfinite(log_odds[best]) else
                    f"the arm points at nothing detected: every object lies outside the arm's direction in the image")
             return Selection(None, tuple(objects), post, float(p_none), float(margin), self.method,
@@ -524,6 +544,32 @@ class DefaultSelector(PointingSelector):
         confidence = mass
         return Selection(best, tuple(objects), post, confidence, float(margin), self.method,
                          confidence < self.min_confidence, float(p_none))
+
+    def _unrecognised_log_odds(self, unrecognised: UnrecognisedSource | None, fit: _PointingFit, arm: ArmKeypoints,
+                               arm3d: Arm3D, objects: list[ObjectCandidate], candidates: Candidates, xyz_m: np.ndarray,
+                               rig: StereoRig) -> np.ndarray:
+        """Return the log odds against "nothing detected" (uniform) of each unrecognised thing the arm may point at.
+
+        Each is a point hypothesis (the object's pointing fit with no extent of its own) with an object's
+        prior times ``unrecognised_weight``; those outside the arm's image direction are left out.
+        """
+        if unrecognised is None or self.unrecognised_weight <= 0.0:
+            return np.zeros(0)
+        blobs = unrecognised([candidates.left_px[list(o.members)] for o in objects],
+                             [xyz_m[list(o.members)] for o in objects], arm3d.xyz_m)
+        if len(blobs) == 0:
+            return np.zeros(0)
+        points = [ObjectCandidate(px, xyz, float(sig), ()) for px, xyz, sig in
+                  zip(blobs.left_px, blobs.xyz_m, blobs.depth_sigma_m)]
+        allowed = image_gate(arm, points, [px[None] for px in blobs.left_px], rig, arm3d, self.model, self.open_set,
+                             fit.pointing_sigma_rad)
+        if not np.any(allowed):
+            return np.zeros(0)
+        kept = [p for p, ok in zip(points, allowed) if ok]
+        costs = fit.costs(_rays(blobs.left_px[allowed], rig), blobs.xyz_m[allowed, 2], blobs.depth_sigma_m[allowed],
+                          np.zeros((len(kept), SHAPE_POINTS, 3)))
+        return (self._log_odds(costs, fit.arm_cost(), kept, arm, arm3d, fit.pointing_sigma_rad, max(len(objects), 1))
+                + math.log(self.unrecognised_weight))
 
     def _sampled_log_odds(self, fit: _PointingFit, joints_px: np.ndarray, arm3d: Arm3D,
                           objects: list[ObjectCandidate], shapes: np.ndarray, rig: StereoRig,
@@ -605,4 +651,4 @@ def make_selector(params: Mapping) -> PointingSelector:
                            params["selection.group_radius_m"], params["selection.min_object_features"],
                            params["selection.min_confidence"], params["selection.object_radius_m"],
                            open_set_from_params(params), params["selection.evidence"],
-                           params["selection.evidence_samples"])
+                           params["selection.evidence_samples"], params["selection.unrecognised_weight"])

@@ -321,7 +321,8 @@ def tally_family(tmp: Path, family: str, n_scenes: int, draws: int, seed0: int, 
                     checked = perception.check_arm(perception.estimate_arm(left, right))
                     result = checked
                     if checked.status == "ok":
-                        result = perception.decide(checked, perception.add_corridor(left, right, checked.arm, base))
+                        result = perception.decide(checked, perception.add_corridor(left, right, checked.arm, base),
+                                                   images=(left, right))
                     sel = result.selection
                     flagged = result.status == "ok" and sel is not None and sel.target is not None and sel.ambiguous
                     tally.add((profile, family, scene.band, sigma), outcome(scene, result, rig), flagged)

@@ -157,7 +157,7 @@ def scene_counts(tmp: Path, n_scenes: int, near: bool, draws: int, seed0: int = 
                     checked = perception.check_arm(perception.estimate_arm(left_rect, right_rect))
                     hit = False
                     if checked.status == "ok":
-                        result = perception.decide(checked, cands)
+                        result = perception.decide(checked, cands, images=(left_rect, right_rect))
                         if result.target_rect_px is not None:
                             px = rig.to_original(result.target_rect_px, "left")[0]
                             hit = cv2.pointPolygonTest(polygon, (float(px[0]), float(px[1])), False) >= 0
