@@ -41,8 +41,9 @@ def annotate(left: np.ndarray, result: PerceptionResult, rig: StereoRig, extensi
     Green: the pointing vector (wrist + 0..extension x forearm, projected); magenta: the pointing
     corridor searched for small, faint objects (when given); white: all candidates (objects for
     the default selector, each with its absolute probability; matched features for the paper's);
-    red: the chosen target; orange: "nothing detected along the ray" when that won; yellow/cyan:
-    shoulder, elbow, wrist and the arm.
+    red: the chosen target; orange: "nothing detected along the ray" when that won, and (rings) the
+    unrecognised spots found along the corridor outside every object; yellow/cyan: shoulder, elbow,
+    wrist and the arm.
     """
     img = left.copy()
     scale = max(1, img.shape[1] // 800)
@@ -59,6 +60,8 @@ def annotate(left: np.ndarray, result: PerceptionResult, rig: StereoRig, extensi
         line = line[line[:, 2] > 0.05]
         if len(line) > 1:
             cv2.polylines(img, [np.round(_project(rig, line)).astype(np.int32)], False, GREEN, 2 * scale)
+    for p in rig.to_original(result.unrecognised.left_px, "left") if len(result.unrecognised) else ():
+        cv2.circle(img, _pt(p), 9 * scale, ORANGE, scale)  # a spot along the corridor no object explains
     sel = result.selection
     if sel is not None:
         font = cv2.FONT_HERSHEY_SIMPLEX

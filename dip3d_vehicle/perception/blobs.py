@@ -96,28 +96,37 @@ class BlobFinder:
                    min_contrast=params["corridor.blob_min_contrast"],
                    min_depth_m=params["corridor.min_depth_m"], max_depth_m=params["filters.max_depth_m"])
 
-    def spots(self, left_rect: np.ndarray, poly: np.ndarray, known: list[np.ndarray] = (), tiles: int = 4) -> np.ndarray:
-        """Return (M, 2) spot centres inside the wedge ``poly`` (left rectified pixels), strongest first.
+    def responses(self, left_rect: np.ndarray, poly: np.ndarray, tiles: int = 4) -> np.ndarray:
+        """Return (N, 3) rows (x, y, response) of every compact spot in the wedge, strongest first (left px).
 
-        ``known``: each recognised object's feature pixels; spots inside their hull (grown by
-        ``KNOWN_GROW_PX``) are that object's own texture and are skipped before the strongest are kept.
+        The costly part (the difference of Gaussians), which needs only the left image and the wedge:
+        it may run while the objects are fitted (``Perception``), the rest once they are known.
         """
         height, width = left_rect.shape[:2]
-        hulls = [cv2.convexHull(np.asarray(px, np.float32).reshape(-1, 1, 2)) for px in known if len(px)]
-        grow = [max(KNOWN_GROW_PX, KNOWN_GROW_SHARE * float(np.ptp(h.reshape(-1, 2), axis=0).max())) for h in hulls]
         found: list[tuple[float, float, float]] = []
         for piece in _pieces(poly, tiles):
             box = _clip_box(piece, width, height, margin_px=int(3 * self.outer_sigma_px))
             if box is not None:
                 found.extend(self._spots_in(left_rect, piece, box))
         found.sort(key=lambda s: -s[2])
+        return np.array(found, float).reshape(-1, 3)
+
+    def spots(self, responses: np.ndarray, known: list[np.ndarray] = ()) -> np.ndarray:
+        """Return (M, 2) spot centres of ``responses`` outside the known objects, at most ``max_blobs`` (left px).
+
+        ``known``: each recognised object's feature pixels; spots inside their hull (grown by
+        ``KNOWN_GROW_PX`` or ``KNOWN_GROW_SHARE`` of its width) are that object's own texture and are
+        skipped before the strongest are kept.
+        """
+        hulls = [cv2.convexHull(np.asarray(px, np.float32).reshape(-1, 1, 2)) for px in known if len(px)]
+        grow = [max(KNOWN_GROW_PX, KNOWN_GROW_SHARE * float(np.ptp(h.reshape(-1, 2), axis=0).max())) for h in hulls]
         out: list[tuple[float, float]] = []
-        for x, y, _ in found:  # neighbouring pieces overlap by their margins: one spot once
+        for x, y, _ in responses:  # neighbouring pieces overlap by their margins: one spot once
             if any((x - a) ** 2 + (y - b) ** 2 <= 9.0 for a, b in out):
                 continue
-            if any(cv2.pointPolygonTest(h, (x, y), True) > -g for h, g in zip(hulls, grow)):
+            if any(cv2.pointPolygonTest(h, (float(x), float(y)), True) > -g for h, g in zip(hulls, grow)):
                 continue
-            out.append((x, y))
+            out.append((float(x), float(y)))
             if len(out) >= self.max_blobs:
                 break
         return np.array(out, float).reshape(-1, 2)
@@ -156,11 +165,14 @@ class BlobFinder:
                                                                                     mag[ys, xs][compact])]
 
     def find(self, left_rect: np.ndarray, right_rect: np.ndarray, poly: np.ndarray | None, rig: StereoRig,
-             known: list[np.ndarray] = ()) -> Blobs:
-        """Return the wedge's spots (outside the ``known`` objects' pixels) matched in the right image, 3D in metres."""
+             known: list[np.ndarray] = (), responses: np.ndarray | None = None) -> Blobs:
+        """Return the wedge's spots (outside the ``known`` objects' pixels) matched in the right image, 3D in metres.
+
+        ``responses``: ``responses(left_rect, poly)`` when already computed.
+        """
         if poly is None:
             return Blobs.empty()
-        spots = self.spots(left_rect, poly, known)
+        spots = self.spots(self.responses(left_rect, poly) if responses is None else responses, known)
         if len(spots) == 0:
             return Blobs.empty()
         fb = rig.focal_px * rig.baseline_m

@@ -85,7 +85,9 @@ class PerceptionResult:
                    "ambiguity_margin": _num(sel.ambiguity_margin), "ambiguous": sel.ambiguous,
                    "none_probability": _num(sel.none_probability)},
                "timings_ms": {k: round(v, 2) for k, v in self.timings_ms.items()},
-               "candidates_followed": self.candidates_followed}
+               "candidates_followed": self.candidates_followed,
+               "unrecognised": [{"left_px": _r(rig.to_original(px, "left")[0]), "xyz_m": _r(xyz, 4)}
+                                for px, xyz in zip(self.unrecognised.left_px, self.unrecognised.xyz_m)]}
         return out
 
     def _arm_json(self, rig: StereoRig) -> dict | None:
@@ -365,9 +367,13 @@ class Perception:
             return None
         left, right = images
         poly = self.corridor.wedge(arm, left.shape[1], left.shape[0], self.rig)
+        if poly is None:
+            return None
+        # the spots' filtering runs while the selector groups and fits the objects
+        responses = shared_pool("blobs", 1).submit(self.blobs.responses, left, poly)
 
         def source(known_px: list, known_xyz: list, joints_xyz_m: np.ndarray) -> Blobs:
-            blobs = self.blobs.find(left, right, poly, self.rig, known_px)
+            blobs = self.blobs.find(left, right, poly, self.rig, known_px, responses.result())
             found.append(blobs)
             return unexplained(blobs, known_xyz, known_px, joints_xyz_m)
         return source

@@ -1,0 +1,87 @@
+"""Unrecognised spots along the corridor: found, matched to 3D, and weighed as "nothing detected"."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from dip3d_vehicle.config import load_params
+from dip3d_vehicle.perception.blobs import BlobFinder, Blobs, unexplained
+from dip3d_vehicle.perception.pipeline import Perception
+
+from test_selection import RIG, _arm_right, candidates_of, cluster, project
+
+
+def _water(seed: int = 0) -> np.ndarray:
+    """Return a grey-blue, slightly grainy 1600x1200 image (BGR uint8)."""
+    rng = np.random.default_rng(seed)
+    img = np.empty((1200, 1600, 3), np.float32)
+    img[:] = (120, 100, 40)
+    img += rng.normal(0.0, 1.5, img.shape)
+    return np.clip(img, 0, 255).astype(np.uint8)
+
+
+def _paint_spot(img: np.ndarray, centre_px: np.ndarray, half_px: int, seed: int) -> None:
+    """Paint a small textured square (a tiny placard) centred at ``centre_px``."""
+    rng = np.random.default_rng(seed)
+    x, y = int(round(centre_px[0])), int(round(centre_px[1]))
+    patch = rng.integers(150, 255, (2 * half_px + 1, 2 * half_px + 1, 1)).astype(np.uint8).repeat(3, axis=2)
+    patch[half_px - 2:half_px + 3, half_px - 2:half_px + 3] = 20
+    img[y - half_px:y + half_px + 1, x - half_px:x + half_px + 1] = patch
+
+
+WEDGE = np.array([[900.0, 560.0], [1600.0, 380.0], [1600.0, 760.0], [900.0, 640.0]])
+
+
+def test_a_small_spot_is_found_and_matched_to_its_depth_and_an_edge_is_not():
+    """A 13 px spot at 3 m is found in the wedge at its place and depth; a long straight edge gives no spot."""
+    left, right = _water(1), _water(2)
+    spot = np.array([1.0, 0.0, 3.0])
+    _paint_spot(left, project(spot)[0], 6, seed=3)
+    _paint_spot(right, project(spot, -0.12)[0], 6, seed=3)
+    left[700:704, 950:1500] = right[700:704, 910:1460] = 10  # a long dark line across the wedge
+    blobs = BlobFinder().find(left, right, WEDGE, RIG)
+    assert len(blobs) >= 1
+    near = np.linalg.norm(blobs.xyz_m - spot, axis=1) < 0.1
+    assert near.any()
+    assert np.all(np.abs(blobs.left_px[:, 1] - 702) > 8)  # nothing on the line
+
+
+def test_spots_inside_a_recognised_object_are_its_own():
+    """Spots within a known object's feature hull are skipped; unexplained drops those near its points."""
+    left, right = _water(1), _water(2)
+    spot = np.array([1.0, 0.0, 3.0])
+    _paint_spot(left, project(spot)[0], 6, seed=3)
+    _paint_spot(right, project(spot, -0.12)[0], 6, seed=3)
+    known_px = project(cluster(spot, 12, 0.06, seed=4))
+    assert len(BlobFinder().find(left, right, WEDGE, RIG, [known_px])) == 0
+    blobs = Blobs(np.array([[1133.0, 600.0]]), np.array([[1.0, 0.0, 3.0]]), np.array([0.05]))
+    assert len(unexplained(blobs, [cluster(spot + [0.1, 0, 0], 5, 0.02)], [np.zeros((0, 2))], np.zeros((0, 3)))) == 0
+    assert len(unexplained(blobs, [], [], np.array([[1.2, 0.0, 3.0]]))) == 0  # the diver's own hand
+    assert len(unexplained(blobs, [], [], np.array([[-0.4, 0.0, 3.0]]))) == 1
+
+
+def test_an_unrecognised_spot_on_the_arm_turns_a_decoy_off_the_arm_into_nothing_detected():
+    """The arm points at an unrecognised spot; the only object lies on the arm's image line but 15 deg off it
+    toward the camera (only the arm's uncertain tilt reaches it): without the spot the object wins, with it
+    "nothing detected" does, and the spot itself is never chosen."""
+    arm, u = _arm_right(2.5)
+    shoulder = np.array([-0.4, 0.0, 2.5])
+    ahead = shoulder + 2.2 * u
+    tilt = np.radians(15.0)
+    toward = shoulder + 2.0 * (np.cos(tilt) * u + np.sin(tilt) * np.array([0.0, 0.0, -1.0]))
+    cands, xyz = candidates_of(cluster(toward, 15, 0.08, seed=11))
+    perception = Perception(RIG, load_params("default"), None, detector=object())
+    arm3d = perception.triangulate_arm(arm)
+    spot = Blobs(project(ahead), ahead[None], np.array([0.03]))
+    alone = perception.selector.select(arm, arm3d, cands, xyz, RIG)
+    seen = perception.selector.select(arm, arm3d, cands, xyz, RIG, lambda px, pts, joints: unexplained(spot, pts, px, joints))
+    assert alone.index == 0 and alone.confidence > 0.5
+    assert seen.index is None and seen.nothing_on_ray and seen.none_probability > 0.6
+    assert "unrecognised" in seen.reason
+    assert float(np.sum(seen.scores)) + seen.none_probability == pytest.approx(1.0)
+    assert seen.scores[0] < alone.scores[0]
+    off = load_params("default", overrides={"selection.unrecognised_weight": 0.0})
+    ignored = Perception(RIG, off, None, detector=object()).selector.select(
+        arm, arm3d, cands, xyz, RIG, lambda px, pts, joints: unexplained(spot, pts, px, joints))
+    assert ignored.index == alone.index and ignored.confidence == pytest.approx(alone.confidence)
