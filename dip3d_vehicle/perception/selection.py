@@ -520,14 +520,15 @@ class DefaultSelector(PointingSelector):
                 log_odds[idx] = self._log_odds(costs, fit.arm_cost(), kept, arm, arm3d, fit.pointing_sigma_rad,
                                                len(objects))
         spots = self._unrecognised_log_odds(unrecognised, fit, arm, arm3d, objects, candidates, xyz_m, rig)
-        top = max(float(log_odds.max()), 0.0, float(spots.max(initial=0.0)))
+        none_log = float(np.logaddexp.reduce(np.r_[0.0, spots]))  # "nothing detected": uniform, or a spot
+        top = max(float(log_odds.max()), none_log)
         weights = np.exp(log_odds - top)
-        none_weight = math.exp(-top) + float(np.exp(spots - top).sum())
+        none_weight = math.exp(none_log - top)
         total = float(weights.sum()) + none_weight
         post, p_none = weights / total, none_weight / total
         order = np.argsort(-log_odds)
         best = int(order[0])
-        ranked = sorted([*log_odds.tolist(), math.log(none_weight) + top], reverse=True)
+        ranked = sorted([*log_odds.tolist(), none_log], reverse=True)
         margin = (ranked[0] - ranked[1]) if len(ranked) > 1 else math.inf
         # "nothing detected" is the answer when it is the confident winner (or no object is allowed);
         # when it merely leads, the best object is returned flagged ambiguous: no decision either way

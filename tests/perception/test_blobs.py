@@ -85,3 +85,24 @@ def test_an_unrecognised_spot_on_the_arm_turns_a_decoy_off_the_arm_into_nothing_
     ignored = Perception(RIG, off, None, detector=object()).selector.select(
         arm, arm3d, cands, xyz, RIG, lambda px, pts, joints: unexplained(spot, pts, px, joints))
     assert ignored.index == alone.index and ignored.confidence == pytest.approx(alone.confidence)
+
+
+def test_an_overwhelming_object_with_spots_about_does_not_break_the_arithmetic(monkeypatch):
+    """Log odds far beyond exp's range (an arm-only fit that converged badly) leave "nothing detected" at 0, no error.
+
+    (A spot source that finds only spots the arm cannot point at once made "nothing detected"'s weight
+    underflow to 0 and its logarithm fail: a mission campaign in murky water stopped on it.)
+    """
+    from dip3d_vehicle.perception import selection
+
+    arm, u = _arm_right(2.5)
+    shoulder = np.array([-0.4, 0.0, 2.5])
+    cands, xyz = candidates_of(cluster(shoulder + 2.0 * u, 15, 0.08, seed=8))
+    perception = Perception(RIG, load_params("default"), None, detector=object())
+    arm3d = perception.triangulate_arm(arm)
+    monkeypatch.setattr(selection._PointingFit, "arm_cost", lambda self, iterations=25: 1e5)
+    behind = shoulder - 1.5 * u  # behind the shoulder: outside the arm's image direction
+    spot = Blobs(project(behind), behind[None], np.array([0.03]))
+    sel = perception.selector.select(arm, arm3d, cands, xyz, RIG, lambda px, pts, joints: unexplained(spot, pts, px, joints))
+    assert sel.index == 0 and sel.confidence == pytest.approx(1.0) and sel.none_probability < 1e-12
+    assert np.isfinite(sel.ambiguity_margin)
