@@ -93,14 +93,14 @@ def test_an_overwhelming_object_with_spots_about_does_not_break_the_arithmetic(m
     (A spot source that finds only spots the arm cannot point at once made "nothing detected"'s weight
     underflow to 0 and its logarithm fail: a mission campaign in murky water stopped on it.)
     """
-    from dip3d_vehicle.perception import selection
+    from dip3d_vehicle.perception import pointing_fit
 
     arm, u = _arm_right(2.5)
     shoulder = np.array([-0.4, 0.0, 2.5])
     cands, xyz = candidates_of(cluster(shoulder + 2.0 * u, 15, 0.08, seed=8))
     perception = Perception(RIG, load_params("default"), None, detector=object())
     arm3d = perception.triangulate_arm(arm)
-    monkeypatch.setattr(selection._PointingFit, "arm_cost", lambda self, iterations=25: 1e5)
+    monkeypatch.setattr(pointing_fit._PointingFit, "arm_cost", lambda self, iterations=25: 1e5)
     behind = shoulder - 1.5 * u  # behind the shoulder: outside the arm's image direction
     spot = Blobs(project(behind), behind[None], np.array([0.03]))
     sel = perception.selector.select(arm, arm3d, cands, xyz, RIG, lambda px, pts, joints: unexplained(spot, pts, px, joints))

@@ -326,7 +326,7 @@ def test_feature_chains_are_labelled_like_scipy_connected_components():
 
 def test_batched_levenberg_marquardt_minimises_each_problem_on_its_own():
     """Each problem of the batch reaches its own minimum, whatever the others do (one call per iteration)."""
-    from dip3d_vehicle.perception.selection import _levenberg_marquardt
+    from dip3d_vehicle.perception.pointing_fit import _levenberg_marquardt
 
     target = np.array([[1.0, 2.0], [3.0, 0.5], [0.2, 4.0]])
     calls = []
