@@ -7,8 +7,8 @@ what the frame says, and it must weigh against an object the arm only reaches th
 uncertain tilt of the arm (issue 11: a decoy 15-20 deg off the arm, on its image line, chosen at
 0.6-0.8 while the pointed 4 cm placard lay 5 deg off it, unseen by the selector).
 
-Here: a difference of Gaussians over the corridor's wedge at full resolution (left rectified
-image), its local extrema above ``min_contrast_sigmas`` times the wedge's own robust noise level and
+Here: a difference of Gaussians over the corridor's wedge (left rectified image, at half
+resolution), its local extrema above ``min_contrast_sigmas`` times the wedge's own robust noise level and
 ``min_contrast`` grey levels, edge-like responses rejected by the Hessian's eigenvalue ratio (as
 SIFT does), the strongest ``max_blobs`` kept; each matched along its rectified row in the right
 image (normalised cross-correlation with a left-right check, ``joint_stereo.match_point``) to a
@@ -25,7 +25,7 @@ import numpy as np
 
 from .calibration import StereoRig
 from .corridor import _clip_box, _pieces, _polygon_mask
-from .joint_stereo import match_point
+from .joint_stereo import _grey, match_point
 from .triangulation import normalize_q, triangulate
 
 __all__ = ["Blobs", "BlobFinder", "unexplained"]
@@ -56,13 +56,6 @@ KNOWN_GROW_PX = 15.0
 KNOWN_GROW_SHARE = 0.5
 """A spot nearer a recognised object's features' hull than the larger of ``KNOWN_GROW_PX`` pixels and
 ``KNOWN_GROW_SHARE`` of the hull's width is that object's own (its features may cover part of it only)."""
-
-
-def _grey(image: np.ndarray) -> np.ndarray:
-    """Return an image as float32 grey levels."""
-    if image.ndim == 3:
-        image = cv2.cvtColor(image, cv2.COLOR_BGR2GRAY)
-    return image.astype(np.float32)
 
 
 class BlobFinder:
@@ -195,9 +188,11 @@ class BlobFinder:
         return Blobs(px[ok], xyz[ok], depth_sigma[ok])
 
 
-def unexplained(blobs: Blobs, objects_xyz_m: list[np.ndarray], objects_px: list[np.ndarray], joints_xyz_m: np.ndarray,
+def unexplained(blobs: Blobs, objects_px: list[np.ndarray], objects_xyz_m: list[np.ndarray], joints_xyz_m: np.ndarray,
                 object_gap_m: float = 0.25, object_gap_px: float = 12.0, body_gap_m: float = 0.4) -> Blobs:
     """Return the blobs no candidate object and no arm joint explains.
+
+    ``partial(unexplained, blobs)`` is the selector's source of unrecognised things for spots found before.
 
     A blob within ``object_gap_m`` (3D) of an object's points or within ``object_gap_px`` (left image)
     of its features is part of that object (its printed spots, its corners); one within ``body_gap_m``
@@ -206,7 +201,7 @@ def unexplained(blobs: Blobs, objects_xyz_m: list[np.ndarray], objects_px: list[
     if len(blobs) == 0:
         return blobs
     keep = np.ones(len(blobs), bool)
-    for pts, px in zip(objects_xyz_m, objects_px):
+    for px, pts in zip(objects_px, objects_xyz_m):
         pts = pts[np.all(np.isfinite(pts), axis=1)]
         if len(pts):
             d3 = np.min(np.linalg.norm(blobs.xyz_m[:, None, :] - pts[None], axis=2), axis=1)

@@ -14,6 +14,7 @@ import copy
 import dataclasses
 import math
 from collections import deque
+from functools import partial
 
 import numpy as np
 
@@ -86,7 +87,7 @@ def decide_held(perception: Perception, arm: ArmKeypoints, frames: int, result: 
     held.model = dataclasses.replace(selector.model, keypoint_sigma_px=selector.model.keypoint_sigma_px * scale)
     spots = result.unrecognised
     sel = held.select(arm, arm3d, result.candidates, result.candidates_xyz_m, perception.rig,
-                      lambda px, xyz, joints: unexplained(spots, xyz, px, joints))
+                      partial(unexplained, spots))
     if sel.nothing_on_ray:
         return PerceptionResult("nothing_on_ray", sel.reason, arm, arm3d, result.candidates,
                                 result.candidates_xyz_m, sel, result.timings_ms, unrecognised=spots)

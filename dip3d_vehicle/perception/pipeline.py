@@ -15,9 +15,9 @@ from typing import Mapping
 
 import numpy as np
 
+from .blobs import BlobFinder, Blobs, unexplained
 from .calibration import StereoRig
 from .candidates import CandidateDetector, SiftDetector
-from .blobs import BlobFinder, Blobs, unexplained
 from .corridor import CorridorDetector, merge_candidates
 from .filters import candidate_keep, pose_rejection
 from .joint_stereo import match_arm
@@ -139,7 +139,9 @@ class Perception:
         self.detector = detector or SiftDetector.from_params(params)
         self.selector = selector or make_selector(params)
         self.corridor = CorridorDetector.from_params(params) if params.get("corridor.enabled") else None
-        self.blobs = BlobFinder.from_params(params) if self.corridor is not None and params.get("corridor.blobs") else None
+        # the unrecognised spots, for a selector that weighs them (the default one, its weight above 0)
+        weighs = getattr(self.selector, "unrecognised_weight", 0.0) > 0.0 and bool(params.get("corridor.blobs"))
+        self.blobs = BlobFinder.from_params(params) if self.corridor is not None and weighs else None
         self.Q = normalize_q(rig.Q, rig.disparity_sign)
         # With pose tracking the frames are a sequence: the previous frame's arm predicts where the
         # candidates' features are, so they are computed while the pose runs (SiftDetector.prefetch);
@@ -363,7 +365,7 @@ class Perception:
         The spots are looked for once the objects are known (their own texture is skipped); what was
         found is appended to ``found`` (for the result, and a later decision with a held arm).
         """
-        if images is None or self.blobs is None or self.corridor is None:
+        if images is None or self.blobs is None:
             return None
         left, right = images
         poly = self.corridor.wedge(arm, left.shape[1], left.shape[0], self.rig)
@@ -375,7 +377,7 @@ class Perception:
         def source(known_px: list, known_xyz: list, joints_xyz_m: np.ndarray) -> Blobs:
             blobs = self.blobs.find(left, right, poly, self.rig, known_px, responses.result())
             found.append(blobs)
-            return unexplained(blobs, known_xyz, known_px, joints_xyz_m)
+            return unexplained(blobs, known_px, known_xyz, joints_xyz_m)
         return source
 
     def triangulate_arm(self, arm: ArmKeypoints, prior_sigma_px: float | None = None) -> Arm3D:

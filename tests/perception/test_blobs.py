@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from functools import partial
+
 import numpy as np
 import pytest
 
@@ -56,7 +58,7 @@ def test_spots_inside_a_recognised_object_are_its_own():
     known_px = project(cluster(spot, 12, 0.06, seed=4))
     assert len(BlobFinder().find(left, right, WEDGE, RIG, [known_px])) == 0
     blobs = Blobs(np.array([[1133.0, 600.0]]), np.array([[1.0, 0.0, 3.0]]), np.array([0.05]))
-    assert len(unexplained(blobs, [cluster(spot + [0.1, 0, 0], 5, 0.02)], [np.zeros((0, 2))], np.zeros((0, 3)))) == 0
+    assert len(unexplained(blobs, [np.zeros((0, 2))], [cluster(spot + [0.1, 0, 0], 5, 0.02)], np.zeros((0, 3)))) == 0
     assert len(unexplained(blobs, [], [], np.array([[1.2, 0.0, 3.0]]))) == 0  # the diver's own hand
     assert len(unexplained(blobs, [], [], np.array([[-0.4, 0.0, 3.0]]))) == 1
 
@@ -75,7 +77,7 @@ def test_an_unrecognised_spot_on_the_arm_turns_a_decoy_off_the_arm_into_nothing_
     arm3d = perception.triangulate_arm(arm)
     spot = Blobs(project(ahead), ahead[None], np.array([0.03]))
     alone = perception.selector.select(arm, arm3d, cands, xyz, RIG)
-    seen = perception.selector.select(arm, arm3d, cands, xyz, RIG, lambda px, pts, joints: unexplained(spot, pts, px, joints))
+    seen = perception.selector.select(arm, arm3d, cands, xyz, RIG, partial(unexplained, spot))
     assert alone.index == 0 and alone.confidence > 0.5
     assert seen.index is None and seen.nothing_on_ray and seen.none_probability > 0.6
     assert "unrecognised" in seen.reason
@@ -83,7 +85,7 @@ def test_an_unrecognised_spot_on_the_arm_turns_a_decoy_off_the_arm_into_nothing_
     assert seen.scores[0] < alone.scores[0]
     off = load_params("default", overrides={"selection.unrecognised_weight": 0.0})
     ignored = Perception(RIG, off, None, detector=object()).selector.select(
-        arm, arm3d, cands, xyz, RIG, lambda px, pts, joints: unexplained(spot, pts, px, joints))
+        arm, arm3d, cands, xyz, RIG, partial(unexplained, spot))
     assert ignored.index == alone.index and ignored.confidence == pytest.approx(alone.confidence)
 
 
@@ -103,6 +105,6 @@ def test_an_overwhelming_object_with_spots_about_does_not_break_the_arithmetic(m
     monkeypatch.setattr(pointing_fit._PointingFit, "arm_cost", lambda self, iterations=25: 1e5)
     behind = shoulder - 1.5 * u  # behind the shoulder: outside the arm's image direction
     spot = Blobs(project(behind), behind[None], np.array([0.03]))
-    sel = perception.selector.select(arm, arm3d, cands, xyz, RIG, lambda px, pts, joints: unexplained(spot, pts, px, joints))
+    sel = perception.selector.select(arm, arm3d, cands, xyz, RIG, partial(unexplained, spot))
     assert sel.index == 0 and sel.confidence == pytest.approx(1.0) and sel.none_probability < 1e-12
     assert np.isfinite(sel.ambiguity_margin)
