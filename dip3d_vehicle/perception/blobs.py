@@ -28,7 +28,7 @@ from .corridor import _clip_box, _pieces, _polygon_mask
 from .joint_stereo import _grey, match_point
 from .triangulation import normalize_q, triangulate
 
-__all__ = ["Blobs", "BlobFinder", "unexplained"]
+__all__ = ["Blobs", "BlobFinder", "unexplained", "wedge_offset"]
 
 
 @dataclass(frozen=True)
@@ -50,12 +50,6 @@ class Blobs:
     def subset(self, keep: np.ndarray) -> "Blobs":
         """Return the blobs where ``keep`` is True."""
         return Blobs(self.left_px[keep], self.xyz_m[keep], self.depth_sigma_m[keep])
-
-
-KNOWN_GROW_PX = 15.0
-KNOWN_GROW_SHARE = 0.5
-"""A spot nearer a recognised object's features' hull than the larger of ``KNOWN_GROW_PX`` pixels and
-``KNOWN_GROW_SHARE`` of the hull's width is that object's own (its features may cover part of it only)."""
 
 
 class BlobFinder:
@@ -104,25 +98,27 @@ class BlobFinder:
         found.sort(key=lambda s: -s[2])
         return np.array(found, float).reshape(-1, 3)
 
-    def spots(self, responses: np.ndarray, known: list[np.ndarray] = ()) -> np.ndarray:
+    def spots(self, responses: np.ndarray, known: list[np.ndarray] = (), poly: np.ndarray | None = None) -> np.ndarray:
         """Return (M, 2) spot centres of ``responses`` outside the known objects, at most ``max_blobs`` (left px).
 
-        ``known``: each recognised object's feature pixels; spots inside their hull (grown by
-        ``KNOWN_GROW_PX`` or ``KNOWN_GROW_SHARE`` of its width) are that object's own texture and are
-        skipped before the strongest are kept.
+        ``known``: each recognised object's feature pixels; spots inside their hull are that object's
+        own texture and are skipped (those just outside it are kept: the 3D test of ``unexplained``
+        tells its texture from a small thing beside it at another depth). ``poly``: the corridor's
+        wedge; the spots nearest its axis (relative to its width there) are kept first, the ones
+        the arm may point at, else the strongest.
         """
         hulls = [cv2.convexHull(np.asarray(px, np.float32).reshape(-1, 1, 2)) for px in known if len(px)]
-        grow = [max(KNOWN_GROW_PX, KNOWN_GROW_SHARE * float(np.ptp(h.reshape(-1, 2), axis=0).max())) for h in hulls]
         out: list[tuple[float, float]] = []
         for x, y, _ in responses:  # neighbouring pieces overlap by their margins: one spot once
             if any((x - a) ** 2 + (y - b) ** 2 <= 9.0 for a, b in out):
                 continue
-            if any(cv2.pointPolygonTest(h, (float(x), float(y)), True) > -g for h, g in zip(hulls, grow)):
+            if any(cv2.pointPolygonTest(h, (float(x), float(y)), False) >= 0 for h in hulls):
                 continue
             out.append((float(x), float(y)))
-            if len(out) >= self.max_blobs:
-                break
-        return np.array(out, float).reshape(-1, 2)
+        found = np.array(out, float).reshape(-1, 2)
+        if poly is not None and len(found) > self.max_blobs:
+            found = found[np.argsort(wedge_offset(poly, found), kind="stable")]
+        return found[:self.max_blobs]
 
     def _spots_in(self, left_rect: np.ndarray, piece: np.ndarray, box: tuple[int, int, int, int]
                   ) -> list[tuple[float, float, float]]:
@@ -165,7 +161,7 @@ class BlobFinder:
         """
         if poly is None:
             return Blobs.empty()
-        spots = self.spots(self.responses(left_rect, poly) if responses is None else responses, known)
+        spots = self.spots(self.responses(left_rect, poly) if responses is None else responses, known, poly)
         if len(spots) == 0:
             return Blobs.empty()
         fb = rig.focal_px * rig.baseline_m
@@ -188,24 +184,44 @@ class BlobFinder:
         return Blobs(px[ok], xyz[ok], depth_sigma[ok])
 
 
+def wedge_offset(poly: np.ndarray, px: np.ndarray) -> np.ndarray:
+    """Return each pixel's distance from the wedge's axis as a share of the wedge's half width there (0: on it).
+
+    ``poly``: ``corridor_polygon``'s (4, 2) wedge, near side first (start + n, end + n, end - n, start - n).
+    """
+    start, end = 0.5 * (poly[0] + poly[3]), 0.5 * (poly[1] + poly[2])
+    length = float(np.linalg.norm(end - start))
+    u = (end - start) / max(length, 1e-9)
+    n = np.array([-u[1], u[0]])
+    rel = px - start
+    along = np.clip(rel @ u, 0.0, length)
+    near, far = 0.5 * float(np.linalg.norm(poly[0] - poly[3])), 0.5 * float(np.linalg.norm(poly[1] - poly[2]))
+    return np.abs(rel @ n) / (near + (far - near) * along / max(length, 1e-9))
+
+
 def unexplained(blobs: Blobs, objects_px: list[np.ndarray], objects_xyz_m: list[np.ndarray], joints_xyz_m: np.ndarray,
-                object_gap_m: float = 0.25, object_gap_px: float = 12.0, body_gap_m: float = 0.4) -> Blobs:
+                object_gap_m: float = 0.25, object_gap_px: float = 12.0, body_gap_m: float = 0.4,
+                depth_sigmas: float = 3.0) -> Blobs:
     """Return the blobs no candidate object and no arm joint explains.
 
     ``partial(unexplained, blobs)`` is the selector's source of unrecognised things for spots found before.
 
-    A blob within ``object_gap_m`` (3D) of an object's points or within ``object_gap_px`` (left image)
-    of its features is part of that object (its printed spots, its corners); one within ``body_gap_m``
-    of an arm joint is the diver's own hand or arm.
+    A blob is part of an object (its printed spots, its corners, the rest of a placard recognised in
+    fragments) when it lies within ``object_gap_px`` (left image) of its features, or within
+    ``object_gap_m`` of one of its points across the line of sight (the blob's ray taken at that
+    point's depth) and at a depth that agrees with that point's: within ``object_gap_m`` plus
+    ``depth_sigmas`` of the blob's own depth sigma (a blob matched ambiguously along its row has a
+    large one, and says little about its depth). One within ``body_gap_m`` of an arm joint is the
+    diver's own hand or arm.
     """
     if len(blobs) == 0:
         return blobs
     keep = np.ones(len(blobs), bool)
+    depth_room = object_gap_m + depth_sigmas * blobs.depth_sigma_m[:, None]
     for px, pts in zip(objects_px, objects_xyz_m):
-        pts = pts[np.all(np.isfinite(pts), axis=1)]
+        pts = pts[np.all(np.isfinite(pts), axis=1) & (pts[:, 2] > 0)]
         if len(pts):
-            d3 = np.min(np.linalg.norm(blobs.xyz_m[:, None, :] - pts[None], axis=2), axis=1)
-            keep &= d3 > object_gap_m
+            keep &= ~np.any(_beside(blobs.xyz_m, pts, object_gap_m, depth_room), axis=1)
         if len(px):
             d2 = np.min(np.linalg.norm(blobs.left_px[:, None, :] - px[None], axis=2), axis=1)
             keep &= d2 > object_gap_px
@@ -213,6 +229,15 @@ def unexplained(blobs: Blobs, objects_px: list[np.ndarray], objects_xyz_m: list[
         dj = np.min(np.linalg.norm(blobs.xyz_m[:, None, :] - joints_xyz_m[None], axis=2), axis=1)
         keep &= dj > body_gap_m
     return _merged(blobs.subset(keep), object_gap_m)
+
+
+def _beside(spots_xyz_m: np.ndarray, points_xyz_m: np.ndarray, gap_m: float, depth_room_m: np.ndarray) -> np.ndarray:
+    """Return (M, K): spot m lies within ``gap_m`` of point k across the line of sight, and within
+    ``depth_room_m`` (M, 1) of its depth (metres; each spot's ray is taken at the point's depth)."""
+    scale = points_xyz_m[None, :, 2] / spots_xyz_m[:, None, 2]
+    across = np.linalg.norm(spots_xyz_m[:, None, :] * scale[..., None] - points_xyz_m[None], axis=2)
+    along = np.abs(spots_xyz_m[:, None, 2] - points_xyz_m[None, :, 2])
+    return (across <= gap_m) & (along <= depth_room_m)
 
 
 def _merged(blobs: Blobs, radius_m: float) -> Blobs:
