@@ -26,7 +26,7 @@ import numpy as np
 from .calibration import StereoRig
 from .corridor import _clip_box, _pieces, _polygon_mask
 from .joint_stereo import _grey, match_point
-from .triangulation import normalize_q, triangulate
+from .triangulation import beside, normalize_q, triangulate
 
 __all__ = ["Blobs", "BlobFinder", "unexplained", "wedge_offset"]
 
@@ -50,6 +50,12 @@ class Blobs:
     def subset(self, keep: np.ndarray) -> "Blobs":
         """Return the blobs where ``keep`` is True."""
         return Blobs(self.left_px[keep], self.xyz_m[keep], self.depth_sigma_m[keep])
+
+
+KNOWN_GROW_PX = 15.0
+KNOWN_GROW_SHARE = 0.5
+"""A spot nearer a recognised object's features' hull than the larger of ``KNOWN_GROW_PX`` pixels and
+``KNOWN_GROW_SHARE`` of the hull's width is probably that object's own (its features may cover part of it only)."""
 
 
 class BlobFinder:
@@ -101,24 +107,30 @@ class BlobFinder:
     def spots(self, responses: np.ndarray, known: list[np.ndarray] = (), poly: np.ndarray | None = None) -> np.ndarray:
         """Return (M, 2) spot centres of ``responses`` outside the known objects, at most ``max_blobs`` (left px).
 
-        ``known``: each recognised object's feature pixels; spots inside their hull are that object's
-        own texture and are skipped (those just outside it are kept: the 3D test of ``unexplained``
-        tells its texture from a small thing beside it at another depth). ``poly``: the corridor's
-        wedge; the spots nearest its axis (relative to its width there) are kept first, the ones
-        the arm may point at, else the strongest.
+        ``known``: each recognised object's feature pixels. Spots inside their hull are that object's
+        own texture and are skipped. Spots just outside it (within ``KNOWN_GROW_PX`` or
+        ``KNOWN_GROW_SHARE`` of its width) are mostly its texture too: they are kept only after every
+        spot farther out (the 3D test of ``unexplained`` then tells its texture from a small thing
+        beside it at another depth). ``poly``: the corridor's wedge; within each of the two groups the
+        spots nearest its axis (relative to its width there) come first, the ones the arm may point
+        at; without it, the strongest.
         """
         hulls = [cv2.convexHull(np.asarray(px, np.float32).reshape(-1, 1, 2)) for px in known if len(px)]
-        out: list[tuple[float, float]] = []
+        grow = [max(KNOWN_GROW_PX, KNOWN_GROW_SHARE * float(np.ptp(h.reshape(-1, 2), axis=0).max())) for h in hulls]
+        seen: list[tuple[float, float]] = []
+        near: list[bool] = []
         for x, y, _ in responses:  # neighbouring pieces overlap by their margins: one spot once
-            if any((x - a) ** 2 + (y - b) ** 2 <= 9.0 for a, b in out):
+            if any((x - a) ** 2 + (y - b) ** 2 <= 9.0 for a, b in seen):
                 continue
-            if any(cv2.pointPolygonTest(h, (float(x), float(y)), False) >= 0 for h in hulls):
+            inside = [cv2.pointPolygonTest(h, (float(x), float(y)), True) for h in hulls]
+            if any(d >= 0.0 for d in inside):
                 continue
-            out.append((float(x), float(y)))
-        found = np.array(out, float).reshape(-1, 2)
-        if poly is not None and len(found) > self.max_blobs:
-            found = found[np.argsort(wedge_offset(poly, found), kind="stable")]
-        return found[:self.max_blobs]
+            seen.append((float(x), float(y)))
+            near.append(any(d > -g for d, g in zip(inside, grow)))
+        found = np.array(seen, float).reshape(-1, 2)
+        offset = wedge_offset(poly, found) if poly is not None else np.arange(len(found), dtype=float)
+        order = np.lexsort((offset, np.array(near, bool)))  # apart before near, then by offset (or strength)
+        return found[order[:self.max_blobs]]
 
     def _spots_in(self, left_rect: np.ndarray, piece: np.ndarray, box: tuple[int, int, int, int]
                   ) -> list[tuple[float, float, float]]:
@@ -221,7 +233,7 @@ def unexplained(blobs: Blobs, objects_px: list[np.ndarray], objects_xyz_m: list[
     for px, pts in zip(objects_px, objects_xyz_m):
         pts = pts[np.all(np.isfinite(pts), axis=1) & (pts[:, 2] > 0)]
         if len(pts):
-            keep &= ~np.any(_beside(blobs.xyz_m, pts, object_gap_m, depth_room), axis=1)
+            keep &= ~np.any(beside(blobs.xyz_m, pts, object_gap_m, depth_room), axis=1)
         if len(px):
             d2 = np.min(np.linalg.norm(blobs.left_px[:, None, :] - px[None], axis=2), axis=1)
             keep &= d2 > object_gap_px
@@ -229,15 +241,6 @@ def unexplained(blobs: Blobs, objects_px: list[np.ndarray], objects_xyz_m: list[
         dj = np.min(np.linalg.norm(blobs.xyz_m[:, None, :] - joints_xyz_m[None], axis=2), axis=1)
         keep &= dj > body_gap_m
     return _merged(blobs.subset(keep), object_gap_m)
-
-
-def _beside(spots_xyz_m: np.ndarray, points_xyz_m: np.ndarray, gap_m: float, depth_room_m: np.ndarray) -> np.ndarray:
-    """Return (M, K): spot m lies within ``gap_m`` of point k across the line of sight, and within
-    ``depth_room_m`` (M, 1) of its depth (metres; each spot's ray is taken at the point's depth)."""
-    scale = points_xyz_m[None, :, 2] / spots_xyz_m[:, None, 2]
-    across = np.linalg.norm(spots_xyz_m[:, None, :] * scale[..., None] - points_xyz_m[None], axis=2)
-    along = np.abs(spots_xyz_m[:, None, 2] - points_xyz_m[None, :, 2])
-    return (across <= gap_m) & (along <= depth_room_m)
 
 
 def _merged(blobs: Blobs, radius_m: float) -> Blobs:
