@@ -36,8 +36,7 @@ from .blobs import Blobs
 from .calibration import StereoRig
 from .evidence import arm_evidence
 from .pointing_fit import SHAPE_POINTS, ArmModel, _PointingFit, _rays, object_shape
-from .candidates import HAND_LENGTH_M
-from .triangulation import beside, normalize_q, triangulate
+from .triangulation import normalize_q, triangulate
 from .values import Arm3D, ArmKeypoints, Candidates, ObjectCandidate, Selection
 
 __all__ = ["PointingSelector", "PaperSelector", "DefaultSelector", "OpenSet", "image_gate", "group_objects", "make_selector",
@@ -261,19 +260,6 @@ def image_gate(arm: ArmKeypoints, objects: list[ObjectCandidate], points_px: lis
     return keep
 
 
-def the_hand(arm3d: Arm3D, objects: list[ObjectCandidate], depth_sigmas: float = 3.0) -> np.ndarray:
-    """Return a bool per object: its centre lies within a hand's length of the wrist (the diver's own hand).
-
-    Across the line of sight within ``HAND_LENGTH_M``; along it within that plus ``depth_sigmas`` of
-    the wrist's and the object's depth sigmas combined (metres). The pose's wrist is the joint (truth)
-    or near it: the hand's own features, a hand's length beyond it, form an object of their own.
-    """
-    centres = np.array([o.xyz_m for o in objects], float).reshape(-1, 3)
-    sigma = np.hypot(float(arm3d.depth_sigma_m[2]), np.array([o.depth_sigma_m for o in objects], float))
-    room = HAND_LENGTH_M + depth_sigmas * sigma[:, None]
-    return beside(centres, arm3d.joint("wrist")[None], HAND_LENGTH_M, room)[:, 0]
-
-
 class DefaultSelector(PointingSelector):
     """Direction-aware, object-level, open-set selection with stereo depth uncertainty."""
 
@@ -313,7 +299,7 @@ class DefaultSelector(PointingSelector):
         fit = _PointingFit(rays, arm3d.xyz_m[:, 2], arm3d.depth_sigma_m, self.model, keypoint_sigma_m)
         shapes = np.stack([object_shape(xyz_m[list(o.members)], o.xyz_m) for o in objects])
         allowed = image_gate(arm, objects, [candidates.left_px[list(o.members)] for o in objects], rig, arm3d,
-                             self.model, self.open_set, fit.pointing_sigma_rad) & ~the_hand(arm3d, objects)
+                             self.model, self.open_set, fit.pointing_sigma_rad)
         log_odds = np.full(len(objects), -np.inf)
         if np.any(allowed):  # an object the image gate rules out never wins: no evidence needed
             idx = np.flatnonzero(allowed)

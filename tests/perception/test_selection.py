@@ -215,21 +215,6 @@ def test_object_outside_the_arms_image_direction_can_never_win():
     assert sel.scores[0] == 0.0
 
 
-def test_the_divers_own_hand_is_never_the_target():
-    """A few features on the hand, 8 cm beyond the wrist along the arm, beside a placard the arm points at
-    from farther away: the hand is never chosen, the placard is; the hand alone gives nothing detected."""
-    arm, u = _arm_right(1.3)
-    shoulder = np.array([-0.4, 0.0, 1.3])
-    hand = shoulder + 0.66 * u
-    placard = shoulder + 1.6 * u + np.array([0.0, 0.25, 0.0])
-    sel, _, _ = _select(arm, np.vstack([cluster(hand, 4, 0.02, seed=3), cluster(placard, 20, 0.1, seed=4)]))
-    assert len(sel.objects) == 2
-    assert sel.index is not None and np.linalg.norm(sel.target.xyz_m - placard) < 0.1
-    assert sel.scores[[np.linalg.norm(o.xyz_m - hand) < 0.05 for o in sel.objects]].sum() == 0.0
-    alone, _, _ = _select(arm, cluster(hand, 4, 0.02, seed=3), **{"selection.none_prior": 0.001})
-    assert alone.index is None and alone.nothing_on_ray
-
-
 def test_pipeline_reports_nothing_on_ray_with_reason_and_json():
     """decide() turns the open-set answer into status nothing_on_ray, target null, a one-line reason."""
     arm, u = _arm_right()
