@@ -40,15 +40,3 @@ def triangulate(Q: np.ndarray, left_px, disparity_px) -> np.ndarray:
         xyz[bad] = np.nan
     return xyz
 
-
-def beside(points_xyz_m: np.ndarray, anchors_xyz_m: np.ndarray, across_m: float, along_m: np.ndarray | float) -> np.ndarray:
-    """Return (M, K): point m lies within ``across_m`` of anchor k across the line of sight and within
-    ``along_m`` (scalar, or (M, 1) / (M, K)) of its depth, camera frame, metres.
-
-    Each point's camera ray is taken at the anchor's depth for the distance across, so a point whose
-    depth is poorly known is still placed well across the line of sight.
-    """
-    scale = anchors_xyz_m[None, :, 2] / points_xyz_m[:, None, 2]
-    across = np.linalg.norm(points_xyz_m[:, None, :] * scale[..., None] - anchors_xyz_m[None], axis=2)
-    along = np.abs(points_xyz_m[:, None, 2] - anchors_xyz_m[None, :, 2])
-    return (across <= across_m) & (along <= along_m)
