@@ -28,7 +28,7 @@ from .corridor import _clip_box, _pieces, _polygon_mask
 from .joint_stereo import _grey, match_point
 from .triangulation import normalize_q, triangulate
 
-__all__ = ["Blobs", "BlobFinder", "unexplained", "wedge_offset"]
+__all__ = ["Blobs", "BlobFinder", "unexplained"]
 
 
 @dataclass(frozen=True)
@@ -55,7 +55,7 @@ class Blobs:
 KNOWN_GROW_PX = 15.0
 KNOWN_GROW_SHARE = 0.5
 """A spot nearer a recognised object's features' hull than the larger of ``KNOWN_GROW_PX`` pixels and
-``KNOWN_GROW_SHARE`` of the hull's width is probably that object's own (its features may cover part of it only)."""
+``KNOWN_GROW_SHARE`` of the hull's width is that object's own (its features may cover part of it only)."""
 
 
 class BlobFinder:
@@ -104,33 +104,25 @@ class BlobFinder:
         found.sort(key=lambda s: -s[2])
         return np.array(found, float).reshape(-1, 3)
 
-    def spots(self, responses: np.ndarray, known: list[np.ndarray] = (), poly: np.ndarray | None = None) -> np.ndarray:
+    def spots(self, responses: np.ndarray, known: list[np.ndarray] = ()) -> np.ndarray:
         """Return (M, 2) spot centres of ``responses`` outside the known objects, at most ``max_blobs`` (left px).
 
-        ``known``: each recognised object's feature pixels. Spots inside their hull are that object's
-        own texture and are skipped. Spots just outside it (within ``KNOWN_GROW_PX`` or
-        ``KNOWN_GROW_SHARE`` of its width) are mostly its texture too: they are kept only after every
-        spot farther out (the 3D test of ``unexplained`` then tells its texture from a small thing
-        beside it at another depth). ``poly``: the corridor's wedge; within each of the two groups the
-        spots nearest its axis (relative to its width there) come first, the ones the arm may point
-        at; without it, the strongest.
+        ``known``: each recognised object's feature pixels; spots inside their hull (grown by
+        ``KNOWN_GROW_PX`` or ``KNOWN_GROW_SHARE`` of its width) are that object's own texture and are
+        skipped before the strongest are kept.
         """
         hulls = [cv2.convexHull(np.asarray(px, np.float32).reshape(-1, 1, 2)) for px in known if len(px)]
         grow = [max(KNOWN_GROW_PX, KNOWN_GROW_SHARE * float(np.ptp(h.reshape(-1, 2), axis=0).max())) for h in hulls]
-        seen: list[tuple[float, float]] = []
-        near: list[bool] = []
+        out: list[tuple[float, float]] = []
         for x, y, _ in responses:  # neighbouring pieces overlap by their margins: one spot once
-            if any((x - a) ** 2 + (y - b) ** 2 <= 9.0 for a, b in seen):
+            if any((x - a) ** 2 + (y - b) ** 2 <= 9.0 for a, b in out):
                 continue
-            inside = [cv2.pointPolygonTest(h, (float(x), float(y)), True) for h in hulls]
-            if any(d >= 0.0 for d in inside):
+            if any(cv2.pointPolygonTest(h, (float(x), float(y)), True) > -g for h, g in zip(hulls, grow)):
                 continue
-            seen.append((float(x), float(y)))
-            near.append(any(d > -g for d, g in zip(inside, grow)))
-        found = np.array(seen, float).reshape(-1, 2)
-        offset = wedge_offset(poly, found) if poly is not None else np.arange(len(found), dtype=float)
-        order = np.lexsort((offset, np.array(near, bool)))  # apart before near, then by offset (or strength)
-        return found[order[:self.max_blobs]]
+            out.append((float(x), float(y)))
+            if len(out) >= self.max_blobs:
+                break
+        return np.array(out, float).reshape(-1, 2)
 
     def _spots_in(self, left_rect: np.ndarray, piece: np.ndarray, box: tuple[int, int, int, int]
                   ) -> list[tuple[float, float, float]]:
@@ -173,7 +165,7 @@ class BlobFinder:
         """
         if poly is None:
             return Blobs.empty()
-        spots = self.spots(self.responses(left_rect, poly) if responses is None else responses, known, poly)
+        spots = self.spots(self.responses(left_rect, poly) if responses is None else responses, known)
         if len(spots) == 0:
             return Blobs.empty()
         fb = rig.focal_px * rig.baseline_m
@@ -196,21 +188,6 @@ class BlobFinder:
         return Blobs(px[ok], xyz[ok], depth_sigma[ok])
 
 
-def wedge_offset(poly: np.ndarray, px: np.ndarray) -> np.ndarray:
-    """Return each pixel's distance from the wedge's axis as a share of the wedge's half width there (0: on it).
-
-    ``poly``: ``corridor_polygon``'s (4, 2) wedge, near side first (start + n, end + n, end - n, start - n).
-    """
-    start, end = 0.5 * (poly[0] + poly[3]), 0.5 * (poly[1] + poly[2])
-    length = float(np.linalg.norm(end - start))
-    u = (end - start) / max(length, 1e-9)
-    n = np.array([-u[1], u[0]])
-    rel = px - start
-    along = np.clip(rel @ u, 0.0, length)
-    near, far = 0.5 * float(np.linalg.norm(poly[0] - poly[3])), 0.5 * float(np.linalg.norm(poly[1] - poly[2]))
-    return np.abs(rel @ n) / (near + (far - near) * along / max(length, 1e-9))
-
-
 def unexplained(blobs: Blobs, objects_px: list[np.ndarray], objects_xyz_m: list[np.ndarray], joints_xyz_m: np.ndarray,
                 object_gap_m: float = 0.25, object_gap_px: float = 12.0, body_gap_m: float = 0.4) -> Blobs:
     """Return the blobs no candidate object and no arm joint explains.
@@ -219,10 +196,7 @@ def unexplained(blobs: Blobs, objects_px: list[np.ndarray], objects_xyz_m: list[
 
     A blob within ``object_gap_m`` (3D) of an object's points or within ``object_gap_px`` (left image)
     of its features is part of that object (its printed spots, its corners); one within ``body_gap_m``
-    of an arm joint is the diver's own hand or arm. A blob whose match along its row is ambiguous
-    (a large depth sigma) is not given to an object beside it on that account: it may be the small
-    thing the arm points at, too faint to match well (variant_12_03 seed 2, issue 11 session 20),
-    and counting it as unrecognised only makes the vehicle less sure.
+    of an arm joint is the diver's own hand or arm.
     """
     if len(blobs) == 0:
         return blobs

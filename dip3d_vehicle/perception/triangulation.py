@@ -39,4 +39,3 @@ def triangulate(Q: np.ndarray, left_px, disparity_px) -> np.ndarray:
     if bad.any():
         xyz[bad] = np.nan
     return xyz
-
