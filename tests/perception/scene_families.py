@@ -286,6 +286,32 @@ def rate(counts: dict, what: str) -> float:
     return counts[what] / max(sum(counts.values()), 1)
 
 
+def prepared(scene: Scene, profile: str, overrides=()) -> tuple:
+    """Return (rig, left, right, pose, perception, arm, base) for deciding noisy draws on one scene.
+
+    The rectified pair, a ``GivenKeypoints`` pose (truth first), the profile's ``Perception``, the truth
+    arm and the main candidate pass (which does not depend on keypoint noise).
+    """
+    from dip3d_vehicle.config import load_params
+    from dip3d_vehicle.perception.keypoints_file import GivenKeypoints
+    from dip3d_vehicle.perception.pipeline import Perception
+    rig = scene.scenario.rig()
+    left, right = rig.rectify(scene.frame.left, scene.frame.right)
+    pose = GivenKeypoints("right", scene.frame.meta["keypoints_truth"])
+    perception = Perception(rig, load_params(profile, overrides=overrides), pose)
+    arm = pose.estimate(left, right, rig)
+    return rig, left, right, pose, perception, arm, perception.detector.detect(left, right, arm, rig)
+
+
+def decided(perception, left, right, base):
+    """Return the perception result of the pose's current keypoints: the arm checked, then the corridor
+    added to the main pass ``base`` and the selection made (with the spots) when the arm is usable."""
+    checked = perception.check_arm(perception.estimate_arm(left, right))
+    if checked.status != "ok":
+        return checked
+    return perception.decide(checked, perception.add_corridor(left, right, checked.arm, base), images=(left, right))
+
+
 def tally_family(tmp: Path, family: str, n_scenes: int, draws: int, seed0: int, noise_px=(0.0, 1.0, 2.0, 4.0),
                  profiles=("paper", "default"), tally: Tally | None = None, overrides=()) -> Tally:
     """Run both selectors over generated scenes of one family; return the outcome and recall tally.
@@ -296,19 +322,11 @@ def tally_family(tmp: Path, family: str, n_scenes: int, draws: int, seed0: int, 
     scenes whose pointed placard is detectable: some candidate (an object for ``default``, a
     feature for ``paper``) lies on it, with the truth keypoints.
     """
-    from dip3d_vehicle.config import load_params
-    from dip3d_vehicle.perception.keypoints_file import GivenKeypoints
-    from dip3d_vehicle.perception.pipeline import Perception
     tally = tally or Tally()
     for k, scene in enumerate(scenes(tmp, family, n_scenes, seed0)):
         truth = scene.frame.meta["keypoints_truth"]
-        rig = scene.scenario.rig()
-        left, right = rig.rectify(scene.frame.left, scene.frame.right)
         for profile in profiles:
-            pose = GivenKeypoints("right", truth)
-            perception = Perception(rig, load_params(profile, overrides=overrides), pose)
-            arm = pose.estimate(left, right, rig)
-            base = perception.detector.detect(left, right, arm, rig)
+            rig, left, right, pose, perception, arm, base = prepared(scene, profile, overrides)
             if scene.detectable:
                 clean = perception.decide(perception.check_arm(arm), perception.add_corridor(left, right, arm, base))
                 objs = clean.selection.objects if clean.selection else ()
@@ -318,11 +336,7 @@ def tally_family(tmp: Path, family: str, n_scenes: int, draws: int, seed0: int, 
             for sigma in noise_px:
                 for _ in range(draws if sigma > 0 else 1):
                     pose.provide(noisy(truth, sigma, rng))
-                    checked = perception.check_arm(perception.estimate_arm(left, right))
-                    result = checked
-                    if checked.status == "ok":
-                        result = perception.decide(checked, perception.add_corridor(left, right, checked.arm, base),
-                                                   images=(left, right))
+                    result = decided(perception, left, right, base)
                     sel = result.selection
                     flagged = result.status == "ok" and sel is not None and sel.target is not None and sel.ambiguous
                     tally.add((profile, family, scene.band, sigma), outcome(scene, result, rig), flagged)

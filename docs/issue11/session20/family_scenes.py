@@ -13,9 +13,6 @@ from pathlib import Path
 import numpy as np
 
 import scene_families as sf
-from dip3d_vehicle.config import load_params
-from dip3d_vehicle.perception.keypoints_file import GivenKeypoints
-from dip3d_vehicle.perception.pipeline import Perception
 
 
 def main() -> None:
@@ -26,23 +23,14 @@ def main() -> None:
     with tempfile.TemporaryDirectory() as tmp:
         for k, scene in enumerate(sf.scenes(Path(tmp), family, n, seed0)):
             truth = scene.frame.meta["keypoints_truth"]
-            rig = scene.scenario.rig()
-            left, right = rig.rectify(scene.frame.left, scene.frame.right)
-            pose = GivenKeypoints("right", truth)
-            perception = Perception(rig, load_params("default", overrides=overrides), pose)
-            arm = pose.estimate(left, right, rig)
-            base = perception.detector.detect(left, right, arm, rig)
+            rig, left, right, pose, perception, _, base = sf.prepared(scene, "default", overrides)
             rng = np.random.default_rng(seed0 + k)
             for s in (0.0, 1.0, 2.0, 4.0):
                 for d in range(8 if s > 0 else 1):
                     pose.provide(sf.noisy(truth, s, rng))
                     if s != sigma:
                         continue
-                    checked = perception.check_arm(perception.estimate_arm(left, right))
-                    result = checked
-                    if checked.status == "ok":
-                        result = perception.decide(checked, perception.add_corridor(left, right, checked.arm, base),
-                                                   images=(left, right))
+                    result = sf.decided(perception, left, right, base)
                     sel = result.selection
                     out = sf.outcome(scene, result, rig)
                     line = (f"scene {k:2d} {scene.band} w{scene.target_width_px:5.1f}px margin "

@@ -11,9 +11,6 @@ from pathlib import Path
 import numpy as np
 
 import scene_families as sf
-from dip3d_vehicle.config import load_params
-from dip3d_vehicle.perception.keypoints_file import GivenKeypoints
-from dip3d_vehicle.perception.pipeline import Perception
 
 
 def main() -> None:
@@ -27,12 +24,7 @@ def main() -> None:
             if k != want:
                 continue
             truth = scene.frame.meta["keypoints_truth"]
-            rig = scene.scenario.rig()
-            left, right = rig.rectify(scene.frame.left, scene.frame.right)
-            pose = GivenKeypoints("right", truth)
-            perception = Perception(rig, load_params("default", overrides=overrides), pose)
-            arm = pose.estimate(left, right, rig)
-            base = perception.detector.detect(left, right, arm, rig)
+            rig, left, right, pose, perception, _, base = sf.prepared(scene, "default", overrides)
             rng = np.random.default_rng(seed0 + k)
             pl = {pid: rig.R1 @ np.asarray(p["xyz_cam_m"]) for pid, p in scene.frame.meta["placards"].items()}
             for pid, p in scene.frame.meta["placards"].items():
@@ -45,11 +37,11 @@ def main() -> None:
                     pose.provide(sf.noisy(truth, s, rng))
                     if s != sigma or d != want_draw:
                         continue
-                    checked = perception.check_arm(perception.estimate_arm(left, right))
-                    res = perception.decide(checked, perception.add_corridor(left, right, checked.arm, base),
-                                            images=(left, right))
+                    res = sf.decided(perception, left, right, base)
                     sel = res.selection
-                    print(res.status, sel.reason if sel else "", "none %.2f" % sel.none_probability)
+                    print(res.status, res.reason, "none %.2f" % sel.none_probability if sel else "")
+                    if sel is None:
+                        return
                     for o, p in zip(sel.objects, sel.scores):
                         near = min(pl, key=lambda q: np.linalg.norm(pl[q] - o.xyz_m))
                         print(f"  object P {p:.2f} xyz {np.round(o.xyz_m, 2).tolist()} placard {near} "
