@@ -25,10 +25,10 @@ import numpy as np
 
 from .calibration import StereoRig
 from .corridor import _clip_box, _pieces, _polygon_mask
-from .joint_stereo import _grey, match_point
+from .joint_stereo import _grey, match_point, score_at
 from .triangulation import normalize_q, triangulate
 
-__all__ = ["Blobs", "BlobFinder", "unexplained"]
+__all__ = ["Blobs", "BlobFinder", "unexplained", "wedge_offset"]
 
 
 @dataclass(frozen=True)
@@ -55,7 +55,17 @@ class Blobs:
 KNOWN_GROW_PX = 15.0
 KNOWN_GROW_SHARE = 0.5
 """A spot nearer a recognised object's features' hull than the larger of ``KNOWN_GROW_PX`` pixels and
-``KNOWN_GROW_SHARE`` of the hull's width is that object's own (its features may cover part of it only)."""
+``KNOWN_GROW_SHARE`` of the hull's width is presumed that object's own (its features may cover part of
+it only); ``BlobFinder.max_beside`` of them, those nearest the wedge's axis, are matched all the same
+when room is left, and kept only with a sharp match (a small thing just beside a placard, at another
+depth: issue 11 session 20, the undetectable family's scene 500 #11)."""
+
+BESIDE_SCORE_MARGIN = 0.3
+BESIDE_DEPTH_SPREAD_PX = 1
+"""A spot beside an object is its own thing only when its best row match beats the best within
+``BESIDE_DEPTH_SPREAD_PX`` of the object's median disparity by ``BESIDE_SCORE_MARGIN`` (normalised
+cross-correlation): a placard's edge texture matched on a repeat of itself is sharp, but scores nearly as
+well at the placard's own depth."""
 
 
 class BlobFinder:
@@ -68,6 +78,8 @@ class BlobFinder:
         min_contrast: and this many grey levels.
         edge_ratio: largest accepted ratio of the response's principal curvatures (an edge's is large).
         max_blobs: the strongest this many are matched.
+        max_beside: at most this many of them may lie just beside a recognised object (``KNOWN_GROW_PX``).
+        beside_max_sigma_px: such a spot is kept only when its row match is this sharp (pixels).
         min_score: the right-image match's lowest normalised cross-correlation.
         min_depth_m, max_depth_m: the depths searched (the disparity span of the row search).
         scale: the image scale the spots are looked for at (their centres are full-size pixels).
@@ -75,12 +87,14 @@ class BlobFinder:
 
     def __init__(self, inner_sigma_px: float = 2.0, outer_sigma_px: float = 5.0, min_contrast_sigmas: float = 6.0,
                  min_contrast: float = 3.0, edge_ratio: float = 6.0, max_blobs: int = 12, min_score: float = 0.7,
-                 min_depth_m: float = 1.0, max_depth_m: float = 12.0, scale: float = 0.5) -> None:
+                 min_depth_m: float = 1.0, max_depth_m: float = 12.0, scale: float = 0.5, max_beside: int = 2,
+                 beside_max_sigma_px: float = 1.0) -> None:
         self.scale = scale
         self.inner_sigma_px, self.outer_sigma_px = inner_sigma_px, outer_sigma_px
         self.min_contrast_sigmas, self.min_contrast = min_contrast_sigmas, min_contrast
         self.edge_ratio, self.max_blobs, self.min_score = edge_ratio, max_blobs, min_score
         self.min_depth_m, self.max_depth_m = min_depth_m, max_depth_m
+        self.max_beside, self.beside_max_sigma_px = max_beside, beside_max_sigma_px
 
     @classmethod
     def from_params(cls, params: Mapping) -> "BlobFinder":
@@ -104,25 +118,43 @@ class BlobFinder:
         found.sort(key=lambda s: -s[2])
         return np.array(found, float).reshape(-1, 3)
 
-    def spots(self, responses: np.ndarray, known: list[np.ndarray] = ()) -> np.ndarray:
-        """Return (M, 2) spot centres of ``responses`` outside the known objects, at most ``max_blobs`` (left px).
+    def spots(self, responses: np.ndarray, known: list[np.ndarray] = (), poly: np.ndarray | None = None
+              ) -> tuple[np.ndarray, list[tuple[int, ...]]]:
+        """Return (M, 2) spot centres of ``responses`` outside the known objects, and the objects each lies beside.
 
-        ``known``: each recognised object's feature pixels; spots inside their hull (grown by
-        ``KNOWN_GROW_PX`` or ``KNOWN_GROW_SHARE`` of its width) are that object's own texture and are
-        skipped before the strongest are kept.
+        ``known``: each recognised object's feature pixels; spots inside their hull are that object's own
+        texture and are skipped. Spots just outside it (grown by ``KNOWN_GROW_PX`` or
+        ``KNOWN_GROW_SHARE`` of its width) are presumed its texture too: the strongest spots apart from
+        every object come first (at most ``max_blobs``, no owners), then, while room is left, at most
+        ``max_beside`` of those beside one (owners: indices into ``known``), nearest the wedge ``poly``'s
+        axis first. Pixels are left rectified.
         """
-        hulls = [cv2.convexHull(np.asarray(px, np.float32).reshape(-1, 1, 2)) for px in known if len(px)]
-        grow = [max(KNOWN_GROW_PX, KNOWN_GROW_SHARE * float(np.ptp(h.reshape(-1, 2), axis=0).max())) for h in hulls]
-        out: list[tuple[float, float]] = []
+        hulls = [(j, cv2.convexHull(np.asarray(px, np.float32).reshape(-1, 1, 2))) for j, px in enumerate(known)
+                 if len(px)]
+        grow = [max(KNOWN_GROW_PX, KNOWN_GROW_SHARE * float(np.ptp(h.reshape(-1, 2), axis=0).max())) for _, h in hulls]
+        apart: list[tuple[float, float]] = []
+        beside: list[tuple[float, float, tuple[int, ...]]] = []
         for x, y, _ in responses:  # neighbouring pieces overlap by their margins: one spot once
-            if any((x - a) ** 2 + (y - b) ** 2 <= 9.0 for a, b in out):
+            if any((x - a) ** 2 + (y - b) ** 2 <= 9.0 for a, b in apart + [q[:2] for q in beside]):
                 continue
-            if any(cv2.pointPolygonTest(h, (float(x), float(y)), True) > -g for h, g in zip(hulls, grow)):
+            inside = [cv2.pointPolygonTest(h, (float(x), float(y)), True) for _, h in hulls]
+            if any(d >= 0.0 for d in inside):
                 continue
-            out.append((float(x), float(y)))
-            if len(out) >= self.max_blobs:
+            owners = tuple(j for d, g, (j, _) in zip(inside, grow, hulls) if d > -g)
+            if owners:
+                beside.append((float(x), float(y), owners))
+                continue
+            apart.append((float(x), float(y)))
+            if len(apart) >= self.max_blobs:
                 break
-        return np.array(out, float).reshape(-1, 2)
+        far = np.array(apart, float).reshape(-1, 2)
+        room = min(self.max_beside, self.max_blobs - len(far))
+        if room <= 0 or not beside:
+            return far, [()] * len(far)
+        near_px = np.array([q[:2] for q in beside], float)
+        order = np.argsort(wedge_offset(poly, near_px), kind="stable") if poly is not None else np.arange(len(beside))
+        order = order[:room]
+        return np.vstack([far, near_px[order]]), [()] * len(far) + [beside[k][2] for k in order]
 
     def _spots_in(self, left_rect: np.ndarray, piece: np.ndarray, box: tuple[int, int, int, int]
                   ) -> list[tuple[float, float, float]]:
@@ -158,27 +190,34 @@ class BlobFinder:
                                                                                     mag[ys, xs][compact])]
 
     def find(self, left_rect: np.ndarray, right_rect: np.ndarray, poly: np.ndarray | None, rig: StereoRig,
-             known: list[np.ndarray] = (), responses: np.ndarray | None = None) -> Blobs:
+             known: list[np.ndarray] = (), responses: np.ndarray | None = None,
+             known_xyz: list[np.ndarray] = ()) -> Blobs:
         """Return the wedge's spots (outside the ``known`` objects' pixels) matched in the right image, 3D in metres.
 
-        ``responses``: ``responses(left_rect, poly)`` when already computed.
+        ``responses``: ``responses(left_rect, poly)`` when already computed. ``known_xyz``: the known
+        objects' 3D points (metres); a spot beside one is kept only when its match is sharp and clearly
+        better than at that object's own disparity (else it is taken for the object's texture).
         """
         if poly is None:
             return Blobs.empty()
-        spots = self.spots(self.responses(left_rect, poly) if responses is None else responses, known)
+        spots, owners = self.spots(self.responses(left_rect, poly) if responses is None else responses, known, poly)
         if len(spots) == 0:
             return Blobs.empty()
         fb = rig.focal_px * rig.baseline_m
         d_lo, d_hi = fb / self.max_depth_m, fb / self.min_depth_m
         half = int(max(4, round(2.0 * self.inner_sigma_px + 2)))
         keep, disp, sigma = [], [], []
-        for x, y in spots:
-            m = match_point(left_rect, right_rect, int(round(x)), int(round(y)), d_lo, d_hi, rig.disparity_sign,
-                            half, self.min_score, 1.5)
-            if m is not None:
-                keep.append((x, y))
-                disp.append(rig.disparity_sign * m[0])
-                sigma.append(m[1])
+        for (x, y), near in zip(spots, owners):
+            xi, yi = int(round(x)), int(round(y))
+            m = match_point(left_rect, right_rect, xi, yi, d_lo, d_hi, rig.disparity_sign, half, self.min_score, 1.5)
+            if m is None or (near and m[1] > self.beside_max_sigma_px):
+                continue
+            if any(not _apart_from(left_rect, right_rect, xi, yi, m, half, rig, known[j], known_xyz[j])
+                   for j in near if j < len(known_xyz)):
+                continue
+            keep.append((x, y))
+            disp.append(rig.disparity_sign * m[0])
+            sigma.append(m[1])
         if not keep:
             return Blobs.empty()
         px, d = np.array(keep), np.array(disp)
@@ -186,6 +225,60 @@ class BlobFinder:
         ok = np.all(np.isfinite(xyz), axis=1) & (xyz[:, 2] > 0)
         depth_sigma = xyz[:, 2] ** 2 * np.maximum(np.array(sigma), 0.5) / fb
         return Blobs(px[ok], xyz[ok], depth_sigma[ok])
+
+
+def object_disparity(px: np.ndarray, xyz_m: np.ndarray, at_px: np.ndarray, fb: float) -> tuple[float, float] | None:
+    """Return an object's disparity extrapolated to ``at_px`` and its fit's rms (pixels), or None without points.
+
+    A recognised object's features lie on a surface that is near enough a plane over a placard, and a
+    plane's disparity is affine in the rectified pixel: fitted over the features (their median with
+    fewer than four, or when they lie on a line), then read off beside them.
+    """
+    ok = np.all(np.isfinite(xyz_m), axis=1) & (xyz_m[:, 2] > 0)
+    if not ok.any():
+        return None
+    px, d = px[ok], fb / xyz_m[ok, 2]
+    if len(d) >= 4:
+        a = np.c_[px - px.mean(axis=0), np.ones(len(d))]
+        if np.linalg.matrix_rank(a, tol=1.0) == 3:
+            coef = np.linalg.lstsq(a, d, rcond=None)[0]
+            rms = float(np.sqrt(np.mean((a @ coef - d) ** 2)))
+            return float(np.r_[at_px - px.mean(axis=0), 1.0] @ coef), rms
+    return float(np.median(d)), float(np.std(d))
+
+
+def _apart_from(left_rect: np.ndarray, right_rect: np.ndarray, x: int, y: int, match: tuple, half: int,
+                rig: StereoRig, object_px: np.ndarray, object_xyz_m: np.ndarray) -> bool:
+    """Return whether a spot beside an object is its own thing (not the object's texture), pixels.
+
+    Its own thing: its best row match lies clearly off the object's disparity extrapolated to it, and the
+    patch scores clearly worse there (a placard's edge matched on a repeat of itself is sharp too).
+    """
+    fit = object_disparity(np.asarray(object_px, float), np.asarray(object_xyz_m, float), np.array([x, y], float),
+                           rig.focal_px * rig.baseline_m)
+    if fit is None:
+        return True
+    d_obj, rms = fit
+    spread = int(np.ceil(BESIDE_DEPTH_SPREAD_PX + 2.0 * rms))
+    if abs(match[0] - d_obj) <= spread + 1:
+        return False
+    at = score_at(left_rect, right_rect, x, y, d_obj, rig.disparity_sign, half, spread)
+    return at is None or match[2] - at >= BESIDE_SCORE_MARGIN
+
+
+def wedge_offset(poly: np.ndarray, px: np.ndarray) -> np.ndarray:
+    """Return each pixel's distance from the wedge's axis as a share of the wedge's half width there (0: on it).
+
+    ``poly``: ``corridor_polygon``'s (4, 2) wedge, near side first (start + n, end + n, end - n, start - n).
+    """
+    start, end = 0.5 * (poly[0] + poly[3]), 0.5 * (poly[1] + poly[2])
+    length = float(np.linalg.norm(end - start))
+    u = (end - start) / max(length, 1e-9)
+    n = np.array([-u[1], u[0]])
+    rel = px - start
+    along = np.clip(rel @ u, 0.0, length)
+    near, far = 0.5 * float(np.linalg.norm(poly[0] - poly[3])), 0.5 * float(np.linalg.norm(poly[1] - poly[2]))
+    return np.abs(rel @ n) / (near + (far - near) * along / max(length, 1e-9))
 
 
 def unexplained(blobs: Blobs, objects_px: list[np.ndarray], objects_xyz_m: list[np.ndarray], joints_xyz_m: np.ndarray,

@@ -170,6 +170,23 @@ def match_point(left: np.ndarray, right: np.ndarray, x: int, y: int, d_lo: float
     return float(sign * (x - xr)), sigma, float(scores[k])
 
 
+def score_at(left: np.ndarray, right: np.ndarray, x: int, y: int, disparity_px: float, sign: int, half: int,
+             spread_px: int = 1) -> float | None:
+    """Return the best NCC of one left pixel's patch within ``spread_px`` of a given disparity magnitude (pixels).
+
+    None when the patch or the right-image span falls off the image or the patch is flat.
+    """
+    h, w = left.shape[:2]
+    xc = int(round(x - sign * disparity_px))
+    xa, xb = xc - spread_px, xc + spread_px + 1
+    if not (half <= y < h - half and half <= x < w - half and xa >= half and xb <= w - half):
+        return None
+    template = _grey(left[y - half:y + half + 1, x - half:x + half + 1])
+    if float(template.std()) < 2.0:
+        return None
+    return float(_scores_along_row(template, right, y, xa, xb, half).max())
+
+
 def joint_disparities(left: np.ndarray, right: np.ndarray, left_xy: np.ndarray, body_disparity_px: float,
                       sign: int, focal_px: float, baseline_m: float, patch_m: float = 0.12, min_score: float = 0.6,
                       lr_tolerance_px: float = 1.5) -> JointDisparity:

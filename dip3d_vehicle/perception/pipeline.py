@@ -375,7 +375,7 @@ class Perception:
         responses = shared_pool("blobs", 1).submit(self.blobs.responses, left, poly)
 
         def source(known_px: list, known_xyz: list, joints_xyz_m: np.ndarray) -> Blobs:
-            blobs = self.blobs.find(left, right, poly, self.rig, known_px, responses.result())
+            blobs = self.blobs.find(left, right, poly, self.rig, known_px, responses.result(), known_xyz)
             found.append(blobs)
             return unexplained(blobs, known_px, known_xyz, joints_xyz_m)
         return source

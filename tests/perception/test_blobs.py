@@ -50,17 +50,38 @@ def test_a_small_spot_is_found_and_matched_to_its_depth_and_an_edge_is_not():
 
 
 def test_spots_inside_a_recognised_object_are_its_own():
-    """Spots within a known object's feature hull are skipped; unexplained drops those near its points."""
+    """Spots inside a known object's feature hull are skipped; unexplained drops those near its points."""
     left, right = _water(1), _water(2)
     spot = np.array([1.0, 0.0, 3.0])
     _paint_spot(left, project(spot)[0], 6, seed=3)
     _paint_spot(right, project(spot, -0.12)[0], 6, seed=3)
-    known_px = project(cluster(spot, 12, 0.06, seed=4))
-    assert len(BlobFinder().find(left, right, WEDGE, RIG, [known_px])) == 0
+    square = spot + np.array([[dx, dy, 0.0] for dx in (-0.05, 0.05) for dy in (-0.05, 0.05)])
+    assert len(BlobFinder().find(left, right, WEDGE, RIG, [project(square)])) == 0
     blobs = Blobs(np.array([[1133.0, 600.0]]), np.array([[1.0, 0.0, 3.0]]), np.array([0.05]))
     assert len(unexplained(blobs, [np.zeros((0, 2))], [cluster(spot + [0.1, 0, 0], 5, 0.02)], np.zeros((0, 3)))) == 0
     assert len(unexplained(blobs, [], [], np.array([[1.2, 0.0, 3.0]]))) == 0  # the diver's own hand
     assert len(unexplained(blobs, [], [], np.array([[-0.4, 0.0, 3.0]]))) == 1
+
+
+def test_a_spot_beside_an_object_is_its_own_at_its_depth_and_apart_at_another():
+    """A spot just beside a recognised object: found (after the spots farther out), part of the object
+    when its depth agrees, its own thing 0.75 m in front, and also when its match says little about its
+    depth (it may be a faint pointed thing: unrecognised, it only makes the vehicle less sure)."""
+    left, right = _water(1), _water(2)
+    spot = np.array([1.0, 0.0, 3.0])
+    _paint_spot(left, project(spot)[0], 6, seed=3)
+    _paint_spot(right, project(spot, -0.12)[0], 6, seed=3)
+    beside = spot + [0.2, 0.0, 0.0]  # 67 px to the right at 3 m
+    known_px = project(cluster(beside, 12, 0.04, seed=4))
+    blobs = BlobFinder().find(left, right, WEDGE, RIG, [known_px])
+    assert len(blobs) >= 1 and np.all(np.linalg.norm(blobs.xyz_m - spot, axis=1) < 0.1)
+    assert len(unexplained(blobs, [], [], np.zeros((0, 3)))) == 1  # one thing
+    same_depth = cluster(beside, 12, 0.04, seed=4)
+    assert len(unexplained(blobs, [known_px], [same_depth], np.zeros((0, 3)))) == 0
+    behind = same_depth * (3.75 / 3.0)  # the same pixels 0.75 m farther away
+    assert len(unexplained(blobs, [known_px], [behind], np.zeros((0, 3)))) == 1
+    vague = Blobs(blobs.left_px, blobs.xyz_m, np.full(len(blobs), 0.5))  # ambiguous matches along the row
+    assert len(unexplained(vague, [known_px], [behind], np.zeros((0, 3)))) == 1
 
 
 def test_an_unrecognised_spot_on_the_arm_turns_a_decoy_off_the_arm_into_nothing_detected():
