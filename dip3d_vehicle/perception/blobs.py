@@ -28,7 +28,7 @@ from .corridor import _clip_box, _pieces, _polygon_mask
 from .joint_stereo import _grey, match_point, score_at
 from .triangulation import normalize_q, triangulate
 
-__all__ = ["Blobs", "BlobFinder", "unexplained", "wedge_offset"]
+__all__ = ["Blobs", "BlobFinder", "object_disparity", "unexplained", "wedge_offset"]
 
 
 @dataclass(frozen=True)
