@@ -57,15 +57,16 @@ KNOWN_GROW_SHARE = 0.5
 """A spot nearer a recognised object's features' hull than the larger of ``KNOWN_GROW_PX`` pixels and
 ``KNOWN_GROW_SHARE`` of the hull's width is presumed that object's own (its features may cover part of
 it only); ``BlobFinder.max_beside`` of them, those nearest the wedge's axis, are matched all the same
-when room is left, and kept only with a sharp match (a small thing just beside a placard, at another
-depth: issue 11 session 20, the undetectable family's scene 500 #11)."""
+when room is left, and kept only when plainly at another depth (a small thing just beside a placard:
+issue 11 sessions 20-21, the undetectable family's scene 500 #11)."""
 
 BESIDE_SCORE_MARGIN = 0.3
 BESIDE_DEPTH_SPREAD_PX = 1
-"""A spot beside an object is its own thing only when its best row match beats the best within
-``BESIDE_DEPTH_SPREAD_PX`` of the object's median disparity by ``BESIDE_SCORE_MARGIN`` (normalised
-cross-correlation): a placard's edge texture matched on a repeat of itself is sharp, but scores nearly as
-well at the placard's own depth."""
+"""A spot beside an object is its own thing only when its best row match lies off the object's disparity
+plane extrapolated to it (``object_disparity``, widened by ``BESIDE_DEPTH_SPREAD_PX`` plus twice the
+fit's rms) and beats the best score there by ``BESIDE_SCORE_MARGIN`` (normalised cross-correlation): a
+placard's edge matched on a repeat of itself is sharp, but scores nearly as well at the placard's depth
+(issue 11 session 21: two of the bench's frames, spots on a slanted placard's rim)."""
 
 
 class BlobFinder:
@@ -195,8 +196,9 @@ class BlobFinder:
         """Return the wedge's spots (outside the ``known`` objects' pixels) matched in the right image, 3D in metres.
 
         ``responses``: ``responses(left_rect, poly)`` when already computed. ``known_xyz``: the known
-        objects' 3D points (metres); a spot beside one is kept only when its match is sharp and clearly
-        better than at that object's own disparity (else it is taken for the object's texture).
+        objects' 3D points (metres); a spot beside one is kept only when its match is sharp
+        (``beside_max_sigma_px``) and, where the object's points are given, plainly off its disparity
+        plane (``_apart_from``); else it is taken for the object's texture.
         """
         if poly is None:
             return Blobs.empty()
