@@ -135,13 +135,15 @@ class BlobFinder:
         grow = [max(KNOWN_GROW_PX, KNOWN_GROW_SHARE * float(np.ptp(h.reshape(-1, 2), axis=0).max())) for _, h in hulls]
         apart: list[tuple[float, float]] = []
         beside: list[tuple[float, float, tuple[int, ...]]] = []
+        taken: list[tuple[float, float]] = []
         for x, y, _ in responses:  # neighbouring pieces overlap by their margins: one spot once
-            if any((x - a) ** 2 + (y - b) ** 2 <= 9.0 for a, b in apart + [q[:2] for q in beside]):
+            if any((x - a) ** 2 + (y - b) ** 2 <= 9.0 for a, b in taken):
                 continue
             inside = [cv2.pointPolygonTest(h, (float(x), float(y)), True) for _, h in hulls]
             if any(d >= 0.0 for d in inside):
                 continue
             owners = tuple(j for d, g, (j, _) in zip(inside, grow, hulls) if d > -g)
+            taken.append((float(x), float(y)))
             if owners:
                 beside.append((float(x), float(y), owners))
                 continue

@@ -68,8 +68,8 @@ def match_joint_disparity(left: np.ndarray, right: np.ndarray, left_xy: np.ndarr
         x0, x1 = max(0, x0), min(w, x1)
         if x1 - x0 < 2 * half_px + 3:
             continue
-        template = _grey(left[y - half_px:y + half_px + 1, x - half_px:x + half_px + 1])
-        if float(template.std()) < 1.0:
+        template = _textured_patch(left, x, y, half_px, 1.0)
+        if template is None:
             continue
         strip = _grey(right[y - half_px:y + half_px + 1, x0:x1])
         scores = cv2.matchTemplate(strip, template, cv2.TM_CCOEFF_NORMED)[0]
@@ -125,6 +125,15 @@ def reach_disparities(body_disparity_px: float, focal_baseline_px_m: float,
     return focal_baseline_px_m / (depth + reach_m), focal_baseline_px_m / max(depth - reach_m, min_depth_m)
 
 
+def _textured_patch(image: np.ndarray, x: int, y: int, half: int, min_std: float = 2.0) -> np.ndarray | None:
+    """Return the grey patch of ``half`` pixels each side of (x, y), or None off the image or flatter than ``min_std``."""
+    h, w = image.shape[:2]
+    if not (half <= y < h - half and half <= x < w - half):
+        return None
+    patch = _grey(image[y - half:y + half + 1, x - half:x + half + 1])
+    return patch if float(patch.std()) >= min_std else None
+
+
 def _scores_along_row(template: np.ndarray, image: np.ndarray, y: int, x0: int, x1: int, half: int) -> np.ndarray:
     """Return NCC scores of ``template`` centred at columns x0..x1-1 of row ``y`` of ``image``."""
     strip = _grey(image[y - half:y + half + 1, x0 - half:x1 + half])
@@ -140,10 +149,8 @@ def match_point(left: np.ndarray, right: np.ndarray, x: int, y: int, d_lo: float
     the left image lands within ``lr_tolerance_px`` of x.
     """
     h, w = left.shape[:2]
-    if not (half <= y < h - half and half <= x < w - half):
-        return None
-    template = _grey(left[y - half:y + half + 1, x - half:x + half + 1])
-    if float(template.std()) < 2.0:
+    template = _textured_patch(left, x, y, half)
+    if template is None:
         return None
     # right-image centres x - sign * d for d in [d_lo, d_hi]
     xa, xb = sorted((x - sign * int(math.ceil(d_hi)) - 1, x - sign * int(math.floor(d_lo)) + 1))
@@ -176,13 +183,10 @@ def score_at(left: np.ndarray, right: np.ndarray, x: int, y: int, disparity_px: 
 
     None when the patch or the right-image span falls off the image or the patch is flat.
     """
-    h, w = left.shape[:2]
     xc = int(round(x - sign * disparity_px))
     xa, xb = xc - spread_px, xc + spread_px + 1
-    if not (half <= y < h - half and half <= x < w - half and xa >= half and xb <= w - half):
-        return None
-    template = _grey(left[y - half:y + half + 1, x - half:x + half + 1])
-    if float(template.std()) < 2.0:
+    template = _textured_patch(left, x, y, half)
+    if template is None or xa < half or xb > left.shape[1] - half:
         return None
     return float(_scores_along_row(template, right, y, xa, xb, half).max())
 
