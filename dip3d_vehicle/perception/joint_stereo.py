@@ -307,6 +307,53 @@ MATCH_GROSS_SIGMAS = 3.0
 match (an elbow's patch locked on the torso behind it) and is dropped."""
 
 
+TORSO_LENGTH_M = 0.5
+"""An adult's torso length (shoulders' to hips' midpoints), metres: the unit of ``LIMB_PER_TORSO``."""
+
+HEAD_SHOULDER_SIGMA_M = 0.15
+"""One-sigma depth distance (metres) between the head's matched surface and the pointing shoulder's joint:
+half a shoulder width (0.19 m) times the torso's turn, with the face a few centimetres before the neck."""
+
+
+def _head_disparity(arm: ArmKeypoints, left: np.ndarray, right: np.ndarray, body_px: float, sign: int,
+                    focal_px: float, baseline_m: float) -> tuple[float, float] | None:
+    """Return the given head's matched disparity and its sigma as the shoulder's (pixels), or None.
+
+    None when the pose source gave no head (``extra_left_px["head"]``) or its patch did not match.
+    The head stands for the torso's depth: the shoulder's sigma is at least ``HEAD_SHOULDER_SIGMA_M``.
+    """
+    head = (arm.extra_left_px or {}).get("head")
+    if head is None:
+        return None
+    found = joint_disparities(left, right, np.array([head], float), body_px, sign, focal_px, baseline_m)
+    if not found.matched[0]:
+        return None
+    d = float(found.disparity_px[0])
+    return d, max(float(found.sigma_px[0]), d ** 2 / (focal_px * baseline_m) * HEAD_SHOULDER_SIGMA_M)
+
+
+def _matched_on_body(left_xy: np.ndarray, disparity_px: np.ndarray, matched: np.ndarray, body_px: float,
+                     focal_px: float, baseline_m: float) -> np.ndarray:
+    """Return which elbow / wrist matches lie on the body behind a foreshortened limb (bool per joint).
+
+    A joint nearer its shoulder in the image, along the arm (shoulder -> elbow -> wrist: a bent arm
+    is not short), than ``FORESHORTENED`` of its limb's plausible length (``LIMB_PER_TORSO`` x
+    ``TORSO_LENGTH_M`` at the body's depth, disparity ``body_px``) lies well out of the image
+    plane, so it cannot be at the body's depth: a match within ``TORSO_DEPTH_M`` of
+    it is the body seen behind the limb (far_diver at 4.7 m: the wrist's patch, mostly chest and
+    head, matched 3 px behind the fist with a 0.5 px sigma; issue 11, session 21).
+    """
+    body = abs(body_px)
+    px_per_m = body / baseline_m                      # image scale at the body's depth, pixels per metre
+    tol = reach_disparities(body, focal_px * baseline_m, TORSO_DEPTH_M, min_depth_m=0.1)[1] - body
+    along = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(left_xy, axis=0), axis=1))])
+    out = np.zeros(len(left_xy), bool)
+    for k in range(1, len(left_xy)):
+        short = along[k] < FORESHORTENED * LIMB_PER_TORSO[k] * TORSO_LENGTH_M * px_per_m
+        out[k] = bool(matched[k] and short and abs(abs(disparity_px[k]) - body) <= tol)
+    return out
+
+
 def match_arm(arm: ArmKeypoints, left: np.ndarray, right: np.ndarray, sign: int, focal_px: float,
               baseline_m: float, floor_px: float, given_sigma_px: float) -> ArmKeypoints:
     """Return an arm with no disparity sigma of its own, each joint's disparity matched along its row (pixels).
@@ -319,7 +366,10 @@ def match_arm(arm: ArmKeypoints, left: np.ndarray, right: np.ndarray, sign: int,
     ``joint_disparity: stereo`` does (``joint_disparities``). The match's sigma is its own, at least
     ``floor_px`` times ``JOINT_FLOOR_FACTOR`` (the patch shows the limb's near surface, a few
     centimetres before the joint's centre; the elbow's often holds the torso behind it), and for
-    the shoulder at least ``SHOULDER_MATCH_SIGMA_M`` of depth (its patch matches the torso). A match
+    the shoulder at least ``SHOULDER_MATCH_SIGMA_M`` of depth (its patch matches the torso). A
+    shoulder whose flat patch does not match takes the given head's match instead
+    (``_head_disparity``), and an elbow / wrist matched on the body behind it is set aside
+    (``_matched_on_body``; the body's depth from the head, else the shoulder's match). A match
     within ``MATCH_GROSS_SIGMAS`` of the given disparity (sigma ``given_sigma_px``) is combined with
     it by inverse variance: the joint moves to the left joint's row at that disparity, with that
     sigma; a farther one, or none, leaves the joint as given. The arm is returned unchanged when its
@@ -333,8 +383,14 @@ def match_arm(arm: ArmKeypoints, left: np.ndarray, right: np.ndarray, sign: int,
     match_sigma = found.floored_sigma_px(floor_px)
     fb = focal_px * baseline_m
     match_sigma[0] = max(match_sigma[0], found.disparity_px[0] ** 2 / fb * SHOULDER_MATCH_SIGMA_M)
+    matched = found.matched.copy()
+    head = _head_disparity(arm, left, right, body, sign, focal_px, baseline_m)
+    if head is not None and not matched[0]:
+        found.disparity_px[0], match_sigma[0], matched[0] = head[0], head[1], True
+    body_ref = head[0] if head is not None else (found.disparity_px[0] if matched[0] else body)
+    matched &= ~_matched_on_body(arm.left_px, found.disparity_px, matched, body_ref, focal_px, baseline_m)
     given = max(float(given_sigma_px), 1e-3)
-    m = found.matched & (np.abs(found.disparity_px - disparity) <= MATCH_GROSS_SIGMAS * np.hypot(match_sigma, given))
+    m = matched & (np.abs(found.disparity_px - disparity) <= MATCH_GROSS_SIGMAS * np.hypot(match_sigma, given))
     if not np.any(m):
         return arm
     w_match, w_given = 1.0 / match_sigma ** 2, 1.0 / given ** 2

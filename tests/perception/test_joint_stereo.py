@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import sys
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -166,6 +167,41 @@ def test_match_arm_combines_with_the_given_disparity_and_drops_a_gross_match():
     w = np.array([1.0 / s_match ** 2, 0.25])
     assert abs(d[0] - (37.0 * w[0] + 35.0 * w[1]) / w.sum()) < 0.3
     assert abs(out.disparity_sigma_px[0] - 1.0 / np.sqrt(w.sum())) < 0.01        # 0.89 px with a 1 px floor
+
+
+def test_match_arm_sets_aside_a_foreshortened_joint_matched_on_the_body_behind_it():
+    """An arm pointing at the camera: elbow and wrist seen over the body, their patches all body (far_diver, 4.7 m)."""
+    from dip3d_vehicle.perception.joint_stereo import match_arm
+    from dip3d_vehicle.perception.values import ArmKeypoints
+
+    left, right = _pair(37)                                    # everything at the body's disparity (3.0 m)
+    xy = np.array([[200.0, 100.0], [212.0, 104.0], [224.0, 108.0]])    # 13 px per limb: far out of the image plane
+    arm = ArmKeypoints("right", xy, xy - [[37.0, 0.0], [40.0, 0.0], [43.0, 0.0]], np.ones(3), np.ones(3), "test")
+    out = match_arm(arm, left, right, 1, 920.0, 0.12, floor_px=1.0, given_sigma_px=2.0)
+    assert out.disparity_matched.tolist() == [True, False, False]     # 6 px off the given: within 3 sigmas
+    assert np.array_equal(out.right_px[1:], arm.right_px[1:])
+    bent = replace(arm, left_px=np.array([[200.0, 100.0], [250.0, 60.0], [300.0, 120.0]]))   # a bent arm is not short
+    bent = replace(bent, right_px=bent.left_px - [[37.0, 0.0], [38.0, 0.0], [38.0, 0.0]])
+    assert match_arm(bent, left, right, 1, 920.0, 0.12, 1.0, 2.0).disparity_matched.all()
+
+
+def test_match_arm_takes_the_heads_match_for_a_flat_shoulder():
+    from dip3d_vehicle.perception.joint_stereo import HEAD_SHOULDER_SIGMA_M, match_arm
+
+    left, right = _pair(37)
+    left[70:131, 160:241] = 90                                 # the shoulder's patch: flat wetsuit
+    right[70:131, 123:204] = 90
+    arm = _noisy_arm(37.0, np.random.default_rng(3), 0.0)
+    arm.right_px[0, 0] = arm.left_px[0, 0] - 33.0                # its given disparity 4 px off
+    out = match_arm(arm, left, right, 1, 920.0, 0.12, floor_px=1.0, given_sigma_px=2.8)
+    assert not out.disparity_matched[0]                        # no head: the shoulder stays as given
+    assert out.right_px[0, 0] == arm.right_px[0, 0]
+    with_head = replace(arm, extra_left_px={"head": (200.0, 40.0)})
+    out = match_arm(with_head, left, right, 1, 920.0, 0.12, floor_px=1.0, given_sigma_px=2.8)
+    s_head = 37.0 ** 2 / (920.0 * 0.12) * HEAD_SHOULDER_SIGMA_M
+    w = np.array([1.0 / s_head ** 2, 1.0 / 2.8 ** 2])
+    assert out.disparity_matched[0]
+    assert abs(out.left_px[0, 0] - out.right_px[0, 0] - (37.0 * w[0] + 33.0 * w[1]) / w.sum()) < 0.3
 
 
 def test_a_matched_joints_sigma_is_used_as_it_is_and_unset_keeps_the_keypoints():
