@@ -355,7 +355,7 @@ def _matched_on_body(left_xy: np.ndarray, disparity_px: np.ndarray, matched: np.
 
 
 def match_arm(arm: ArmKeypoints, left: np.ndarray, right: np.ndarray, sign: int, focal_px: float,
-              baseline_m: float, floor_px: float, given_sigma_px: float) -> ArmKeypoints:
+              baseline_m: float, floor_px: float, given_sigma_px: float, patch_m: float = 0.06) -> ArmKeypoints:
     """Return an arm with no disparity sigma of its own, each joint's disparity matched along its row (pixels).
 
     For a pose source that places each image's keypoints independently (a keypoints file, the
@@ -363,7 +363,8 @@ def match_arm(arm: ArmKeypoints, left: np.ndarray, right: np.ndarray, sign: int,
     ~0.15 m of depth at 2.5 m) is what leaves the arm's tilt toward the camera uncertain. The
     left joint's patch is searched along the same rectified row of the right image, within the
     depths an arm reaches from the body (the keypoints' median disparity), as BlazePose's
-    ``joint_disparity: stereo`` does (``joint_disparities``). The match's sigma is its own, at least
+    ``joint_disparity: stereo`` does (``joint_disparities``, patches ``patch_m`` wide at the body's
+    depth; the head's stays 0.12 m wide). The match's sigma is its own, at least
     ``floor_px`` times ``JOINT_FLOOR_FACTOR`` (the patch shows the limb's near surface, a few
     centimetres before the joint's centre; the elbow's often holds the torso behind it), and for
     the shoulder at least ``SHOULDER_MATCH_SIGMA_M`` of depth (its patch matches the torso). A
@@ -379,7 +380,7 @@ def match_arm(arm: ArmKeypoints, left: np.ndarray, right: np.ndarray, sign: int,
     body = float(np.median(disparity))
     if not math.isfinite(body) or sign * body <= 0.5:
         return arm
-    found = joint_disparities(left, right, arm.left_px, body, sign, focal_px, baseline_m)
+    found = joint_disparities(left, right, arm.left_px, body, sign, focal_px, baseline_m, patch_m=patch_m)
     match_sigma = found.floored_sigma_px(floor_px)
     fb = focal_px * baseline_m
     match_sigma[0] = max(match_sigma[0], found.disparity_px[0] ** 2 / fb * SHOULDER_MATCH_SIGMA_M)

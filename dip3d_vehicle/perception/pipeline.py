@@ -318,7 +318,8 @@ class Perception:
             return arm
         given_sigma_px = math.sqrt(2.0) * keypoint_noise_px(arm, self.params["selection.keypoint_sigma_px"])
         return match_arm(arm, left_rect, right_rect, self.rig.disparity_sign, self.rig.focal_px, self.rig.baseline_m,
-                         float(self.params["pose.match_disparity_floor_px"]), given_sigma_px)
+                         float(self.params["pose.match_disparity_floor_px"]), given_sigma_px,
+                         float(self.params["pose.match_disparity_patch_m"]))
 
     def check_arm(self, arm: ArmKeypoints | None) -> PerceptionResult:
         """Triangulate and filter the arm; status "ok" when it may be used for selection."""
