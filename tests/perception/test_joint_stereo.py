@@ -217,14 +217,12 @@ def test_a_matched_joints_sigma_is_used_as_it_is_and_unset_keeps_the_keypoints()
     found = {}
     for profile in ("default", "paper"):
         pose = GivenKeypoints("right", keypoints)
-        on = {"pose.match_disparity": True} if profile == "default" else {}     # opt-in: on here for default only
-        perception = Perception(rig, load_params(profile, overrides=on), pose)
+        perception = Perception(rig, load_params(profile), pose)     # on in default, off in paper
         found[profile] = perception.estimate_arm(left, right)
     given, matched = found["paper"], found["default"]
     assert given.disparity_matched is None and np.allclose(given.right_px, arm.right_px)
     assert matched.disparity_matched.all()
-    perception = Perception(rig, load_params("default", overrides={"pose.match_disparity": True}),
-                            GivenKeypoints("right", keypoints))
+    perception = Perception(rig, load_params("default"), GivenKeypoints("right", keypoints))
     sigma_given = perception.triangulate_arm(given).depth_sigma_m
     sigma_matched = perception.triangulate_arm(matched).depth_sigma_m
     expected = rig.depth_sigma_m(np.abs(perception.triangulate_arm(matched).xyz_m[:, 2]), matched.disparity_sigma_px)
