@@ -17,7 +17,7 @@ from dip3d_vehicle.bench import make_perception, simulated_frames
 sc, seed, t0, n, hz = sys.argv[1], int(sys.argv[2]), float(sys.argv[3]), int(sys.argv[4]), float(sys.argv[5])
 data = simulated_frames(sc, [seed], n, rate_hz=hz, start_s=t0, approach_m_s=0.0)
 rig = data.rig
-runs = [make_perception("default", rig, {"pose.backend": "keypoints"}),
+runs = [make_perception("default", rig, {"pose.backend": "keypoints", "pose.match_disparity": False}),
         make_perception("default", rig, {"pose.backend": "keypoints", "pose.match_disparity": True})]
 def ang(a, b): return np.degrees(np.arccos(np.clip(a @ b / np.linalg.norm(a) / np.linalg.norm(b), -1, 1)))
 acc = [[], []]
