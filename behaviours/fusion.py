@@ -68,7 +68,7 @@ class Hypothesis:
         weight: summed per-frame probability (the mean's weight).
         log_sum: summed log probability (floored) over the counted frames.
         led: frames in which it had the highest probability of all hypotheses (none included).
-        obj, candidates, stamp_s: its latest sighting (for the tracker).
+        obj, candidates, stamp_s: its sighting for the tracker (``_richer_sighting``).
         best_p: its highest single-frame probability.
     """
 
@@ -171,6 +171,27 @@ def frame_probabilities(result: PerceptionResult, no_objects_none_p: float) -> t
     return None
 
 
+TRACK_MODEL_SHARE = 0.5
+"""A later frame's sighting of a hypothesis becomes its tracker model only with at least this share
+of the kept sighting's features."""
+
+
+def _richer_sighting(h: Hypothesis, obj: ObjectCandidate, same_frame: bool) -> bool:
+    """True when ``obj`` should become ``h``'s sighting for the tracker (its appearance model and start).
+
+    The tracker knows the chosen target by its sighting's features only. A fragment (a placard split
+    into a large and a 3-feature cluster, the fragment the later one in its frame) gave a 3-descriptor
+    model, which matched a neighbouring placard 0.86 m away at once: variant_10_03 seed 1 decided
+    placard 2 at p 0.94 and arrived at placard 3 (issue 11, session 22). So within a frame the
+    larger object on the hypothesis is kept, and a later frame's object replaces the kept one
+    (the latest view) unless it has fewer than ``TRACK_MODEL_SHARE`` of its features.
+    """
+    if h.obj is None:
+        return True
+    n, kept = len(obj.members), len(h.obj.members)
+    return n > kept if same_frame else n >= TRACK_MODEL_SHARE * kept
+
+
 @dataclass
 class PointFusion:
     """Accumulates the frames of one point into the fused posterior.
@@ -262,7 +283,7 @@ class PointFusion:
             w = max(p, 1e-6)
             h.xyz_m = (h.weight * h.xyz_m + w * xyz) / (h.weight + w)
             h.weight += w
-            if h.key not in seen or p > 0.5 * seen[h.key]:  # the latest strong sighting, for the tracker
+            if _richer_sighting(h, obj, h.key in seen):
                 h.obj, h.candidates, h.stamp_s = obj, result.candidates, stamp_s
             seen[h.key] = seen.get(h.key, 0.0) + p
         for h in self.hypotheses:

@@ -381,3 +381,21 @@ def test_each_frame_of_a_held_point_is_decided_again_with_the_held_arm(rig):
     assert all("mean of" in source for _, source in calls)
     assert fired[3] == "winner"
     assert any("ok/arm3 o1 0.90" in line for line in m.bb.story)
+
+
+def _with_members(result: PerceptionResult, sizes: list[int]) -> PerceptionResult:
+    """Return ``result`` with its objects given ``sizes`` features each (members 0..n-1)."""
+    from dataclasses import replace
+    objs = tuple(replace(o, members=tuple(range(n))) for o, n in zip(result.selection.objects, sizes))
+    return replace(result, selection=replace(result.selection, objects=objs))
+
+
+def test_the_tracker_model_is_the_hypothesis_richest_sighting_not_a_fragment():
+    """variant_10_03 seed 1: a 3-feature fragment beside the 55-feature placard became the tracker's model."""
+    f = PointFusion(0.3)
+    f.add(_with_members(_frame({(1.0, 0.0, 3.0): 0.5, (1.1, 0.05, 3.0): 0.3}, 0.2), [55, 3]), 0.0)
+    assert len(f.hypotheses) == 1 and len(f.hypotheses[0].obj.members) == 55     # the fragment came second
+    f.add(_with_members(_frame({(1.05, 0.0, 3.0): 0.6}, 0.4), [3]), 0.2)
+    assert len(f.hypotheses[0].obj.members) == 55 and f.hypotheses[0].stamp_s == 0.0   # a later fragment alone
+    f.add(_with_members(_frame({(1.0, 0.0, 3.0): 0.6}, 0.4), [40]), 0.4)
+    assert len(f.as_vote(f.hypotheses[0]).obj.members) == 40 and f.hypotheses[0].stamp_s == 0.4   # the latest view
