@@ -171,25 +171,18 @@ def frame_probabilities(result: PerceptionResult, no_objects_none_p: float) -> t
     return None
 
 
-TRACK_MODEL_SHARE = 0.5
-"""A later frame's sighting of a hypothesis becomes its tracker model only with at least this share
-of the kept sighting's features."""
-
-
 def _richer_sighting(h: Hypothesis, obj: ObjectCandidate, same_frame: bool) -> bool:
     """True when ``obj`` should become ``h``'s sighting for the tracker (its appearance model and start).
 
-    The tracker knows the chosen target by its sighting's features only. A fragment (a placard split
-    into a large and a 3-feature cluster, the fragment the later one in its frame) gave a 3-descriptor
-    model, which matched a neighbouring placard 0.86 m away at once: variant_10_03 seed 1 decided
-    placard 2 at p 0.94 and arrived at placard 3 (issue 11, session 22). So within a frame the
-    larger object on the hypothesis is kept, and a later frame's object replaces the kept one
-    (the latest view) unless it has fewer than ``TRACK_MODEL_SHARE`` of its features.
+    The tracker knows the chosen target by its sighting's features only, and predicts it from the
+    sighting's time. So the latest frame's sighting is taken (an older one would be dead-reckoned
+    through the nod: variant_10_01 seed 1 then lost its target twice), and within that frame the
+    largest object on the hypothesis. A fragment (a placard split into a large and a 3-feature
+    cluster, the fragment second in its frame) gave a 3-descriptor model, which matched a
+    neighbouring placard 0.86 m away at once: variant_10_03 seed 1 decided placard 2 at p 0.94 and
+    arrived at placard 3 (issue 11, session 22).
     """
-    if h.obj is None:
-        return True
-    n, kept = len(obj.members), len(h.obj.members)
-    return n > kept if same_frame else n >= TRACK_MODEL_SHARE * kept
+    return not same_frame or h.obj is None or len(obj.members) > len(h.obj.members)
 
 
 @dataclass

@@ -390,12 +390,11 @@ def _with_members(result: PerceptionResult, sizes: list[int]) -> PerceptionResul
     return replace(result, selection=replace(result.selection, objects=objs))
 
 
-def test_the_tracker_model_is_the_hypothesis_richest_sighting_not_a_fragment():
+def test_the_tracker_model_is_the_latest_frames_largest_object_on_the_hypothesis_not_a_fragment():
     """variant_10_03 seed 1: a 3-feature fragment beside the 55-feature placard became the tracker's model."""
     f = PointFusion(0.3)
     f.add(_with_members(_frame({(1.0, 0.0, 3.0): 0.5, (1.1, 0.05, 3.0): 0.3}, 0.2), [55, 3]), 0.0)
     assert len(f.hypotheses) == 1 and len(f.hypotheses[0].obj.members) == 55     # the fragment came second
-    f.add(_with_members(_frame({(1.05, 0.0, 3.0): 0.6}, 0.4), [3]), 0.2)
-    assert len(f.hypotheses[0].obj.members) == 55 and f.hypotheses[0].stamp_s == 0.0   # a later fragment alone
-    f.add(_with_members(_frame({(1.0, 0.0, 3.0): 0.6}, 0.4), [40]), 0.4)
-    assert len(f.as_vote(f.hypotheses[0]).obj.members) == 40 and f.hypotheses[0].stamp_s == 0.4   # the latest view
+    f.add(_with_members(_frame({(1.05, 0.0, 3.0): 0.3, (1.0, 0.02, 3.0): 0.2}, 0.5), [3, 40]), 0.2)
+    h = f.hypotheses[0]                                  # the latest frame (its view), its largest object
+    assert len(f.as_vote(h).obj.members) == 40 and h.stamp_s == 0.2
