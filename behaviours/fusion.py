@@ -68,7 +68,7 @@ class Hypothesis:
         weight: summed per-frame probability (the mean's weight).
         log_sum: summed log probability (floored) over the counted frames.
         led: frames in which it had the highest probability of all hypotheses (none included).
-        obj, candidates, stamp_s: its sighting for the tracker (``_richer_sighting``).
+        obj, candidates, stamp_s: its sighting for the tracker (``_tracker_sighting``).
         best_p: its highest single-frame probability.
     """
 
@@ -171,7 +171,7 @@ def frame_probabilities(result: PerceptionResult, no_objects_none_p: float) -> t
     return None
 
 
-def _richer_sighting(h: Hypothesis, obj: ObjectCandidate, same_frame: bool) -> bool:
+def _tracker_sighting(h: Hypothesis, obj: ObjectCandidate, same_frame: bool) -> bool:
     """True when ``obj`` should become ``h``'s sighting for the tracker (its appearance model and start).
 
     The tracker knows the chosen target by its sighting's features only, and predicts it from the
@@ -276,7 +276,7 @@ class PointFusion:
             w = max(p, 1e-6)
             h.xyz_m = (h.weight * h.xyz_m + w * xyz) / (h.weight + w)
             h.weight += w
-            if _richer_sighting(h, obj, h.key in seen):
+            if _tracker_sighting(h, obj, h.key in seen):
                 h.obj, h.candidates, h.stamp_s = obj, result.candidates, stamp_s
             seen[h.key] = seen.get(h.key, 0.0) + p
         for h in self.hypotheses:

@@ -255,6 +255,11 @@ def _inside(point: np.ndarray, hull: np.ndarray, margin_px: float = 0.0) -> bool
     return cv2.pointPolygonTest(hull, (float(point[0]), float(point[1])), True) > -margin_px
 
 
+def _on_body_px(body_px: float, focal_baseline_px_m: float) -> float:
+    """Return how far (disparity, pixels) a point matched on the body can lie from the body's ``body_px``."""
+    return reach_disparities(body_px, focal_baseline_px_m, TORSO_DEPTH_M, min_depth_m=0.1)[1] - body_px
+
+
 def in_front_of_body(found: JointDisparity, left_xy: np.ndarray, body_px: np.ndarray, torso_px: float,
                      body_disparity_px: float, focal_px: float, baseline_m: float, patch_m: float = 0.12) -> JointDisparity:
     """Return ``found`` with every elbow / wrist seen over the body and matched at the body's depth put in front of it.
@@ -279,7 +284,7 @@ def in_front_of_body(found: JointDisparity, left_xy: np.ndarray, body_px: np.nda
     fb = focal_px * baseline_m
     sign = 1.0 if body_disparity_px >= 0 else -1.0
     body = abs(body_disparity_px)
-    tol = reach_disparities(body, fb, TORSO_DEPTH_M, min_depth_m=0.1)[1] - body
+    tol = _on_body_px(body, fb)
     front = reach_disparities(body, fb)[1]
     middle = reach_disparities(body, fb, 0.5 * ARM_REACH_M)[1]
     margin = 0.5 * patch_m * body / baseline_m          # half the patch at the body's depth, pixels
@@ -345,7 +350,7 @@ def _matched_on_body(left_xy: np.ndarray, disparity_px: np.ndarray, matched: np.
     """
     body = abs(body_px)
     px_per_m = body / baseline_m                      # image scale at the body's depth, pixels per metre
-    tol = reach_disparities(body, focal_px * baseline_m, TORSO_DEPTH_M, min_depth_m=0.1)[1] - body
+    tol = _on_body_px(body, focal_px * baseline_m)
     along = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(left_xy, axis=0), axis=1))])
     out = np.zeros(len(left_xy), bool)
     for k in range(1, len(left_xy)):
