@@ -7,7 +7,8 @@ over single matched features, ignoring which way the arm points.
 maximum-a-posteriori fit asks "could the arm be pointing at it?": the joints must lie on their
 camera rays (the 2D image positions are precise) at depths consistent with the stereo depths and
 their uncertainty (sigma_Z = Z^2 sigma_d / (f B)), with plausible limb lengths and a nearly
-straight arm, and the object must lie AHEAD of the wrist and near the ray from the shoulder
+straight arm, and the object must lie AHEAD of the wrist (and not on the pointing hand itself,
+``on_hand``) and near the ray from the shoulder
 through the wrist (measured from the shoulder: seen from the wrist, a few degrees of pointing
 error become tens of degrees for an object close to the hand). "Near" is a miss distance in
 metres to points spread over the object, sigma = hypot(pointing_sigma * distance, tolerance),
@@ -34,13 +35,14 @@ from scipy.spatial import cKDTree
 
 from .blobs import Blobs
 from .calibration import StereoRig
+from .candidates import HAND_LENGTH_M
 from .evidence import arm_evidence
 from .pointing_fit import SHAPE_POINTS, ArmModel, _PointingFit, _rays, object_shape
 from .triangulation import normalize_q, triangulate
 from .values import Arm3D, ArmKeypoints, Candidates, ObjectCandidate, Selection
 
 __all__ = ["PointingSelector", "PaperSelector", "DefaultSelector", "OpenSet", "image_gate", "group_objects", "make_selector",
-           "paper_distances"]
+           "paper_distances", "on_hand"]
 
 MAX_TILT_SIGMA_RAD = 0.25
 """Cap on the arm's tilt uncertainty (toward / away from the camera), radians: the anthropometric
@@ -260,13 +262,33 @@ def image_gate(arm: ArmKeypoints, objects: list[ObjectCandidate], points_px: lis
     return keep
 
 
+def on_hand(objects: list[ObjectCandidate], arm3d: Arm3D, reach_m: float = HAND_LENGTH_M) -> np.ndarray:
+    """Return a bool per object: does its centre lie within the pointing hand's reach of the wrist (metres)?
+
+    The hand beyond the wrist joint (glove, fingers) has texture of its own: matched, its features form an
+    object a few centimetres ahead of the wrist, exactly on the arm's line, which the pointing fit then
+    rates as the best pointed object there is (line_of_sight, seed 900, scene 9: a 3-feature object
+    0.07 m from the wrist took P 0.53 from the pointed placard). The diver's own hand is never the
+    target. The object's offset across the line of sight is measured at the wrist's depth (a wrong
+    depth does not move it in the image); its depth gap counts beyond two sigmas of both depths.
+    """
+    wrist = arm3d.joint("wrist")
+    out = np.zeros(len(objects), bool)
+    for k, obj in enumerate(objects):
+        z = max(float(obj.xyz_m[2]), 1e-6)
+        across = float(np.linalg.norm(obj.xyz_m[:2] * (wrist[2] / z) - wrist[:2]))
+        gap = max(abs(z - float(wrist[2])) - 2.0 * math.hypot(float(arm3d.depth_sigma_m[2]), obj.depth_sigma_m), 0.0)
+        out[k] = math.hypot(across, gap) <= reach_m
+    return out
+
+
 class DefaultSelector(PointingSelector):
     """Direction-aware, object-level, open-set selection with stereo depth uncertainty."""
 
     method = "default"
 
     def __init__(self, model: ArmModel = ArmModel(), group_radius_px: float = 20.0, group_radius_m: float = 0.05,
-                 min_object_features: int = 3, min_confidence: float = 0.6, object_radius_m: float = 0.15,
+                 min_object_features: int = 3, min_confidence: float = 0.6, object_radius_m: float = 0.2,
                  open_set: OpenSet = OpenSet(), evidence: str = "laplace", evidence_samples: int = 2048,
                  unrecognised_weight: float = 1.0) -> None:
         self.model, self.open_set = model, open_set
@@ -299,7 +321,7 @@ class DefaultSelector(PointingSelector):
         fit = _PointingFit(rays, arm3d.xyz_m[:, 2], arm3d.depth_sigma_m, self.model, keypoint_sigma_m)
         shapes = np.stack([object_shape(xyz_m[list(o.members)], o.xyz_m) for o in objects])
         allowed = image_gate(arm, objects, [candidates.left_px[list(o.members)] for o in objects], rig, arm3d,
-                             self.model, self.open_set, fit.pointing_sigma_rad)
+                             self.model, self.open_set, fit.pointing_sigma_rad) & ~on_hand(objects, arm3d)
         log_odds = np.full(len(objects), -np.inf)
         if np.any(allowed):  # an object the image gate rules out never wins: no evidence needed
             idx = np.flatnonzero(allowed)
@@ -331,7 +353,8 @@ class DefaultSelector(PointingSelector):
             seen = f", {len(spots)} unrecognised thing(s) along it" if len(spots) else ""
             why = (f"the arm points at nothing detected (P {p_none:.2f}{seen}); best object P {mass:.2f}"
                    if np.isfinite(log_odds[best]) else
-                   "the arm points at nothing detected: every object lies outside the arm's direction in the image")
+                   "the arm points at nothing detected: every object lies outside the arm's direction in the image "
+                   "or on the pointing hand")
             return Selection(None, tuple(objects), post, float(p_none), float(margin), self.method,
                              p_none < self.min_confidence, float(p_none), why)
         confidence = mass

@@ -215,6 +215,26 @@ def test_object_outside_the_arms_image_direction_can_never_win():
     assert sel.scores[0] == 0.0
 
 
+def test_the_pointing_hands_own_features_are_never_the_target():
+    """A few features just beyond the wrist, on the arm's line (the glove's): never chosen over the placard.
+
+    Without the hand rule they are the best-pointed object there is (0 deg off the arm, P ~0.5); a
+    placard of the same size 0.25 m beyond the wrist, on the same line, stays a candidate.
+    """
+    arm, u = _arm_right()
+    shoulder = np.array([-0.4, 0.0, 2.5])
+    wrist = shoulder + 0.58 * u
+    hand = cluster(wrist + 0.07 * u, 4, 0.02, seed=11)
+    placard = cluster(shoulder + 1.6 * u + np.array([0.0, 0.0, 0.3]), 20, 0.1, seed=12)
+    sel, _, _ = _select(arm, np.vstack([hand, placard]))
+    assert len(sel.objects) == 2
+    hand_index = int(np.argmin([np.linalg.norm(o.xyz_m - wrist) for o in sel.objects]))
+    assert sel.scores[hand_index] == 0.0
+    assert sel.index == 1 - hand_index and not sel.ambiguous
+    near, _, _ = _select(arm, cluster(wrist + 0.25 * u, 20, 0.06, seed=13))
+    assert near.index == 0
+
+
 def test_pipeline_reports_nothing_on_ray_with_reason_and_json():
     """decide() turns the open-set answer into status nothing_on_ray, target null, a one-line reason."""
     arm, u = _arm_right()
