@@ -301,11 +301,19 @@ def in_front_of_body(found: JointDisparity, left_xy: np.ndarray, body_px: np.nda
     return JointDisparity(disp, sigma, matched, found.score.copy())
 
 
-SHOULDER_MATCH_SIGMA_M = 0.1
-"""One-sigma depth error (metres) of a given arm's matched shoulder: its patch holds the torso and the
-back behind it, so it matches near the torso's depth, which lies up to half a shoulder width (0.19 m)
-from the joint (at 0 px keypoint noise on the earlier 1-3 m scenes the matched shoulder lay 0.12 m
-behind the joint, median; p25 0.04, p75 0.16; 0.01 m for the elbow and wrist)."""
+SHOULDER_MATCH_SIGMA_M = 0.05
+"""One-sigma depth error (metres) of a given arm's matched shoulder, once moved back by
+``SHOULDER_SURFACE_M``. With the 0.06 m patch (``pose.match_disparity_patch_m``) the raw match lies
+0.02-0.035 m in front of the joint (median per family, 2 px keypoint noise), p10-p90 within
+-0.1 / +0.08 m of the joint (issue 11, session 23, ``docs/issue11/session23/scripts/raw_match.py``).
+It was 0.1 m for the 0.12 m patch, which held the torso and the back behind the shoulder (0.12 m
+behind the joint, median): kept, it let the given keypoints' noisy disparity outweigh the match at
+close range (final shoulder error p90 2.7 px where the raw match's was under 1 px)."""
+
+SHOULDER_SURFACE_M = 0.03
+"""How far (metres) the shoulder's joint centre lies behind the surface its patch matches: the
+deltoid's near side (the raw match lies 0.02-0.035 m in front of the joint, median, in every
+generated family; 0.03-0.05 m in the mission scenarios, issue 11 session 22)."""
 
 MATCH_GROSS_SIGMAS = 3.0
 """A joint's match further than this many combined sigmas from the given keypoints' disparity is a wrong
@@ -372,7 +380,7 @@ def match_arm(arm: ArmKeypoints, left: np.ndarray, right: np.ndarray, sign: int,
     depth; the head's stays 0.12 m wide). The match's sigma is its own, at least
     ``floor_px`` times ``JOINT_FLOOR_FACTOR`` (the patch shows the limb's near surface, a few
     centimetres before the joint's centre; the elbow's often holds the torso behind it), and for
-    the shoulder at least ``SHOULDER_MATCH_SIGMA_M`` of depth (its patch matches the torso). A
+    the shoulder at least ``SHOULDER_MATCH_SIGMA_M`` of depth (its patch matches the deltoid's surface: the match moves back by ``SHOULDER_SURFACE_M``). A
     shoulder whose flat patch does not match takes the given head's match instead
     (``_head_disparity``), and an elbow / wrist matched on the body behind it is set aside
     (``_matched_on_body``; the body's depth from the head, else the shoulder's match). A match
@@ -388,6 +396,8 @@ def match_arm(arm: ArmKeypoints, left: np.ndarray, right: np.ndarray, sign: int,
     found = joint_disparities(left, right, arm.left_px, body, sign, focal_px, baseline_m, patch_m=patch_m)
     match_sigma = found.floored_sigma_px(floor_px)
     fb = focal_px * baseline_m
+    if found.matched[0]:   # the deltoid's surface: the joint lies behind it
+        found.disparity_px[0] = sign * fb / (fb / abs(found.disparity_px[0]) + SHOULDER_SURFACE_M)
     match_sigma[0] = max(match_sigma[0], found.disparity_px[0] ** 2 / fb * SHOULDER_MATCH_SIGMA_M)
     matched = found.matched.copy()
     head = _head_disparity(arm, left, right, body, sign, focal_px, baseline_m)

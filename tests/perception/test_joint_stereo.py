@@ -118,18 +118,21 @@ def _noisy_arm(disparity_px: float, rng, sigma_px: float = 2.0):
 
 
 def test_match_arm_measures_each_joints_disparity_and_its_own_sigma():
-    from dip3d_vehicle.perception.joint_stereo import JOINT_FLOOR_FACTOR, SHOULDER_MATCH_SIGMA_M, match_arm
+    from dip3d_vehicle.perception.joint_stereo import (JOINT_FLOOR_FACTOR, SHOULDER_MATCH_SIGMA_M,
+                                                       SHOULDER_SURFACE_M, match_arm)
 
     left, right = _pair(37)
     rng = np.random.default_rng(0)
+    fb = 920.0 * 0.12
+    shoulder = fb / (fb / 37.0 + SHOULDER_SURFACE_M)       # the joint behind the matched surface: 36.6 px
     for _ in range(10):
         arm = _noisy_arm(37.0, rng)
         out = match_arm(arm, left, right, 1, 920.0, 0.12, floor_px=0.5, given_sigma_px=1e6)
         assert out.disparity_matched.all()
-        assert np.allclose(out.left_px[:, 0] - out.right_px[:, 0], 37.0, atol=0.35)
+        assert np.allclose(out.left_px[:, 0] - out.right_px[:, 0], [shoulder, 37.0, 37.0], atol=0.35)
         assert np.array_equal(out.right_px[:, 1], out.left_px[:, 1]) and np.array_equal(out.left_px, arm.left_px)
         floor = 0.5 * JOINT_FLOOR_FACTOR
-        floor[0] = max(floor[0], 37.0 ** 2 / (920.0 * 0.12) * SHOULDER_MATCH_SIGMA_M)    # the torso behind it
+        floor[0] = max(floor[0], shoulder ** 2 / fb * SHOULDER_MATCH_SIGMA_M)    # the deltoid's surface
         assert np.all(out.disparity_sigma_px >= 0.98 * floor) and np.all(out.disparity_sigma_px <= 1.02 * np.maximum(floor, 1.0))
 
 
@@ -153,7 +156,7 @@ def test_match_arm_keeps_what_it_cannot_match():
 
 
 def test_match_arm_combines_with_the_given_disparity_and_drops_a_gross_match():
-    from dip3d_vehicle.perception.joint_stereo import SHOULDER_MATCH_SIGMA_M, match_arm
+    from dip3d_vehicle.perception.joint_stereo import SHOULDER_MATCH_SIGMA_M, SHOULDER_SURFACE_M, match_arm
 
     left, right = _pair(37)
     arm = _noisy_arm(37.0, np.random.default_rng(3), 0.0)
@@ -162,10 +165,13 @@ def test_match_arm_combines_with_the_given_disparity_and_drops_a_gross_match():
     assert out.disparity_matched.tolist() == [True, True, False]     # 9 px > 3 x hypot(1, 2): dropped
     assert np.array_equal(out.right_px[2], arm.right_px[2]) and np.isnan(out.disparity_sigma_px[2])
     d = out.left_px[:2, 0] - out.right_px[:2, 0]
-    # the shoulder's match stands for the torso behind it: sigma 0.1 m of depth (1.24 px here), not 1 px
-    s_match = 37.0 ** 2 / (920.0 * 0.12) * SHOULDER_MATCH_SIGMA_M
+    # the shoulder's match is the deltoid's surface, moved back to the joint, with a sigma of 0.05 m of
+    # depth (0.6 px here) floored at 1 px
+    fb = 920.0 * 0.12
+    shoulder = fb / (fb / 37.0 + SHOULDER_SURFACE_M)
+    s_match = max(shoulder ** 2 / fb * SHOULDER_MATCH_SIGMA_M, 1.0)
     w = np.array([1.0 / s_match ** 2, 0.25])
-    assert abs(d[0] - (37.0 * w[0] + 35.0 * w[1]) / w.sum()) < 0.3
+    assert abs(d[0] - (shoulder * w[0] + 35.0 * w[1]) / w.sum()) < 0.3
     assert abs(out.disparity_sigma_px[0] - 1.0 / np.sqrt(w.sum())) < 0.01        # 0.89 px with a 1 px floor
 
 

@@ -68,6 +68,11 @@ def main() -> None:
         print(f"{family:13s} n {len(sub):3d} dir err on median {np.median(on):5.1f} p90 {np.percentile(on, 90):5.1f} "
               f">15deg {np.mean(on > 15):5.1%} | off median {np.median(off):5.1f} p90 {np.percentile(off, 90):5.1f} "
               f">15deg {np.mean(off > 15):5.1%} | on worse by >8deg {np.mean(on > off + 8):5.1%}")
+        used = np.array([r[7] for r in sub])
+        err = np.abs(np.array([r[5] for r in sub]))
+        print(f"{'':13s} matched share S/E/W {np.round(used.mean(axis=0), 2).tolist()}  |disp err| px median S/E/W "
+              f"{np.round(np.median(err, axis=0), 2).tolist()} p90 {np.round(np.percentile(err, 90, axis=0), 2).tolist()}"
+              f"  as given {np.round(np.median(np.abs(np.array([r[6] for r in sub])), axis=0), 2).tolist()}")
 
 
 if __name__ == "__main__":
