@@ -60,6 +60,13 @@ it only); ``BlobFinder.max_beside`` of them, those nearest the wedge's axis, are
 when room is left, and kept only when plainly at another depth (a small thing just beside a placard:
 issue 11 sessions 20-21, the undetectable family's scene 500 #11)."""
 
+BESIDE_TRIES_PER_SLOT = 6
+"""Up to this many spots beside objects are matched per ``BlobFinder.max_beside`` slot, nearest the wedge's
+axis first, until the slots are filled by spots that pass: a slot goes to a spot plainly off its object's
+depth, not to the first one tried (issue 11 session 23: the undetectable family's scene 900 #6, a 7 px
+target 57 px beside a placard 3 m in front of it, lost both slots to the placard's own rim spots, nearer
+the axis, in every noisy draw, and the selector chose the placard beside the pointed one)."""
+
 BESIDE_SCORE_MARGIN = 0.3
 BESIDE_DEPTH_SPREAD_PX = 1
 """A spot beside an object is its own thing only when its best row match lies off the object's disparity
@@ -126,9 +133,10 @@ class BlobFinder:
         ``known``: each recognised object's feature pixels; spots inside their hull are that object's own
         texture and are skipped. Spots just outside it (grown by ``KNOWN_GROW_PX`` or
         ``KNOWN_GROW_SHARE`` of its width) are presumed its texture too: the strongest spots apart from
-        every object come first (at most ``max_blobs``, no owners), then, while room is left, at most
-        ``max_beside`` of those beside one (owners: indices into ``known``), nearest the wedge ``poly``'s
-        axis first. Pixels are left rectified.
+        every object come first (at most ``max_blobs``, no owners), then, while room is left, up to
+        ``BESIDE_TRIES_PER_SLOT`` per slot of those beside one (owners: indices into ``known``), nearest
+        the wedge ``poly``'s axis first (``find`` keeps at most ``max_beside`` of them). Pixels are left
+        rectified.
         """
         hulls = [(j, cv2.convexHull(np.asarray(px, np.float32).reshape(-1, 1, 2))) for j, px in enumerate(known)
                  if len(px)]
@@ -156,7 +164,7 @@ class BlobFinder:
             return far, [()] * len(far)
         near_px = np.array([q[:2] for q in beside], float)
         order = np.argsort(wedge_offset(poly, near_px), kind="stable") if poly is not None else np.arange(len(beside))
-        order = order[:room]
+        order = order[:room * BESIDE_TRIES_PER_SLOT]
         return np.vstack([far, near_px[order]]), [()] * len(far) + [beside[k][2] for k in order]
 
     def _spots_in(self, left_rect: np.ndarray, piece: np.ndarray, box: tuple[int, int, int, int]
@@ -211,7 +219,10 @@ class BlobFinder:
         d_lo, d_hi = fb / self.max_depth_m, fb / self.min_depth_m
         half = int(max(4, round(2.0 * self.inner_sigma_px + 2)))
         keep, disp, sigma = [], [], []
+        room = min(self.max_beside, self.max_blobs - sum(1 for near in owners if not near))
         for (x, y), near in zip(spots, owners):
+            if near and room <= 0:
+                break   # the spots beside objects come last: their slots are filled
             xi, yi = int(round(x)), int(round(y))
             m = match_point(left_rect, right_rect, xi, yi, d_lo, d_hi, rig.disparity_sign, half, self.min_score, 1.5)
             if m is None or (near and m[1] > self.beside_max_sigma_px):
@@ -219,6 +230,7 @@ class BlobFinder:
             if any(not _apart_from(left_rect, right_rect, xi, yi, m, half, rig, known[j], known_xyz[j])
                    for j in near if j < len(known_xyz)):
                 continue
+            room -= bool(near)
             keep.append((x, y))
             disp.append(rig.disparity_sign * m[0])
             sigma.append(m[1])

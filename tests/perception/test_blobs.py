@@ -159,3 +159,29 @@ def test_an_overwhelming_object_with_spots_about_does_not_break_the_arithmetic(m
     sel = perception.selector.select(arm, arm3d, cands, xyz, RIG, partial(unexplained, spot))
     assert sel.index == 0 and sel.confidence == pytest.approx(1.0) and sel.none_probability < 1e-12
     assert np.isfinite(sel.ambiguity_margin)
+
+
+def test_the_slots_for_spots_beside_objects_go_to_spots_that_pass_not_to_the_first_tried(monkeypatch):
+    """Three rim spots of a placard at 3.75 m lie beside it nearer the wedge's axis than a small thing at 3 m,
+    also beside it (issue 11 session 23: undetectable scene 900 #6). The rim spots match on the placard's
+    own depth and are set aside; the small thing still gets a slot. Tried only as many as there are slots
+    (``max_beside``, 2), the rim spots would have taken them all."""
+    from dip3d_vehicle.perception import blobs as blobs_module
+
+    left, right = _water(1), _water(2)
+    fb = RIG.focal_px * RIG.baseline_m
+    thing_px = np.array([1150.0, 652.0])
+    thing = np.array([(thing_px[0] - 800.0) * 3.0 / 1000.0, (thing_px[1] - 600.0) * 3.0 / 1000.0, 3.0])
+    _paint_spot(left, thing_px, 6, seed=3)
+    _paint_spot(right, thing_px - [fb / 3.0, 0.0], 6, seed=3)
+    for k, rim in enumerate(([1150.0, 585.0], [1150.0, 615.0], [1205.0, 553.0])):
+        _paint_spot(left, np.array(rim), 6, seed=10 + k)
+        _paint_spot(right, np.array(rim) - [fb / 3.75, 0.0], 6, seed=10 + k)
+    grid = np.array([[x, y] for x in (1170.0, 1205.0, 1240.0) for y in (570.0, 600.0, 630.0)])
+    known_xyz = np.c_[(grid[:, 0] - 800.0) * 3.75 / 1000.0, (grid[:, 1] - 600.0) * 3.75 / 1000.0, np.full(9, 3.75)]
+    found = BlobFinder().find(left, right, WEDGE, RIG, [grid], known_xyz=[known_xyz])
+    assert np.any(np.linalg.norm(found.xyz_m - thing, axis=1) < 0.1)
+    assert np.all(np.abs(found.xyz_m[:, 2] - 3.75) > 0.3)          # no rim spot kept
+    monkeypatch.setattr(blobs_module, "BESIDE_TRIES_PER_SLOT", 1)
+    first_tried = BlobFinder().find(left, right, WEDGE, RIG, [grid], known_xyz=[known_xyz])
+    assert not np.any(np.linalg.norm(first_tried.xyz_m - thing, axis=1) < 0.1)
