@@ -15,6 +15,7 @@ from pathlib import Path
 import numpy as np
 
 import scene_families as sf
+from draws import draws
 
 
 def direction_error_deg(arm3d, truth: dict) -> float:
@@ -38,27 +39,22 @@ def main() -> None:
                 joints = {j: rig.R1 @ np.asarray(v) for j, v in scene.frame.meta["joints_cam_m"].items()}
                 fb = rig.focal_px * rig.baseline_m
                 true_disp = np.array([fb / joints[j][2] for j in ("shoulder", "elbow", "wrist")])
-                rng = np.random.default_rng(seed0 + k)
-                for s in (0.0, 1.0, 2.0, 4.0):
-                    for d in range(8 if s > 0 else 1):
-                        kp = sf.noisy(truth, s, rng)
-                        if s != sigma:
-                            continue
-                        pose.provide(kp)
-                        pose_off.provide(kp)
-                        a_on, a_off = on.estimate_arm(left, right), off.estimate_arm(left, right)
-                        c_on, c_off = on.check_arm(a_on), off.check_arm(a_off)
-                        if c_on.arm3d is None or c_off.arm3d is None:
-                            continue
-                        e_on, e_off = direction_error_deg(c_on.arm3d, joints), direction_error_deg(c_off.arm3d, joints)
-                        d_on = rig.disparity_sign * (a_on.left_px[:, 0] - a_on.right_px[:, 0]) - true_disp
-                        d_off = rig.disparity_sign * (a_off.left_px[:, 0] - a_off.right_px[:, 0]) - true_disp
-                        used = a_on.disparity_matched if a_on.disparity_matched is not None else np.zeros(3, bool)
-                        rows.append((family, k, d, e_on, e_off, d_on, d_off, used, scene.band))
-                        if e_on > e_off + 8.0:
-                            print(f"{family:13s} scene {k:2d} draw {d} dir err on {e_on:5.1f} off {e_off:5.1f} "
-                                  f"disp err on {np.round(d_on, 1).tolist()} off {np.round(d_off, 1).tolist()} "
-                                  f"used {used.tolist()} true disp {np.round(true_disp, 1).tolist()}", flush=True)
+                for d, kp, _ in draws(scene, seed0, k, sigma):
+                    pose.provide(kp)
+                    pose_off.provide(kp)
+                    a_on, a_off = on.estimate_arm(left, right), off.estimate_arm(left, right)
+                    c_on, c_off = on.check_arm(a_on), off.check_arm(a_off)
+                    if c_on.arm3d is None or c_off.arm3d is None:
+                        continue
+                    e_on, e_off = direction_error_deg(c_on.arm3d, joints), direction_error_deg(c_off.arm3d, joints)
+                    d_on = rig.disparity_sign * (a_on.left_px[:, 0] - a_on.right_px[:, 0]) - true_disp
+                    d_off = rig.disparity_sign * (a_off.left_px[:, 0] - a_off.right_px[:, 0]) - true_disp
+                    used = a_on.disparity_matched if a_on.disparity_matched is not None else np.zeros(3, bool)
+                    rows.append((family, k, d, e_on, e_off, d_on, d_off, used, scene.band))
+                    if e_on > e_off + 8.0:
+                        print(f"{family:13s} scene {k:2d} draw {d} dir err on {e_on:5.1f} off {e_off:5.1f} "
+                              f"disp err on {np.round(d_on, 1).tolist()} off {np.round(d_off, 1).tolist()} "
+                              f"used {used.tolist()} true disp {np.round(true_disp, 1).tolist()}", flush=True)
     for family in (*sf.FAMILIES, "all"):
         sub = [r for r in rows if family in ("all", r[0])]
         if not sub:

@@ -15,6 +15,7 @@ from pathlib import Path
 import numpy as np
 
 import scene_families as sf
+from draws import draws
 from dip3d_vehicle.perception.joint_stereo import joint_disparities
 
 
@@ -30,20 +31,15 @@ def main() -> None:
                 joints = {j: rig.R1 @ np.asarray(v) for j, v in scene.frame.meta["joints_cam_m"].items()}
                 fb = rig.focal_px * rig.baseline_m
                 zt = np.array([joints[j][2] for j in ("shoulder", "elbow", "wrist")])
-                rng = np.random.default_rng(seed0 + k)
-                for s in (0.0, 1.0, 2.0, 4.0):
-                    for d in range(8 if s > 0 else 1):
-                        kp = sf.noisy(truth, s, rng)
-                        if s != sigma:
-                            continue
-                        pose.provide(kp)
-                        arm = pose.estimate(left, right, rig)
-                        body = float(np.median(arm.left_px[:, 0] - arm.right_px[:, 0]))
-                        found = joint_disparities(left, right, arm.left_px, body, rig.disparity_sign, rig.focal_px,
-                                                  rig.baseline_m, patch_m=float(perception.params["pose.match_disparity_patch_m"]))
-                        z = fb / np.abs(found.disparity_px)
-                        err = np.where(found.matched, z - zt, np.nan)
-                        rows.setdefault(family, []).append((err, zt))
+                for d, kp, _ in draws(scene, seed0, k, sigma):
+                    pose.provide(kp)
+                    arm = pose.estimate(left, right, rig)
+                    body = float(np.median(arm.left_px[:, 0] - arm.right_px[:, 0]))
+                    found = joint_disparities(left, right, arm.left_px, body, rig.disparity_sign, rig.focal_px,
+                                              rig.baseline_m, patch_m=float(perception.params["pose.match_disparity_patch_m"]))
+                    z = fb / np.abs(found.disparity_px)
+                    err = np.where(found.matched, z - zt, np.nan)
+                    rows.setdefault(family, []).append((err, zt))
     for family, rs in rows.items():
         err = np.array([r[0] for r in rs])
         zt = np.array([r[1] for r in rs])

@@ -1,0 +1,25 @@
+"""The families' noisy draws of one scene, at one noise level, as ``scene_families.tally_family`` draws them."""
+from __future__ import annotations
+
+from collections.abc import Iterator
+
+import numpy as np
+
+import scene_families as sf
+
+
+def draws(scene: sf.Scene, seed0: int, k: int, sigma_px: float) -> Iterator[tuple[int, dict, dict]]:
+    """Yield (draw, noisy keypoints, truth joints in the rectified left frame, metres) at ``sigma_px``.
+
+    The generator is the families' own (seeded ``seed0 + k``, 1 draw at 0 px then 8 per level), so draw d
+    here is draw d of the families' tally.
+    """
+    truth = scene.frame.meta["keypoints_truth"]
+    rig = scene.scenario.rig()
+    joints = {j: rig.R1 @ np.asarray(v) for j, v in scene.frame.meta["joints_cam_m"].items()}
+    rng = np.random.default_rng(seed0 + k)
+    for s in (0.0, 1.0, 2.0, 4.0):
+        for d in range(8 if s > 0 else 1):
+            kp = sf.noisy(truth, s, rng)
+            if s == sigma_px:
+                yield d, kp, joints
