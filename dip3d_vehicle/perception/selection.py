@@ -262,23 +262,43 @@ def image_gate(arm: ArmKeypoints, objects: list[ObjectCandidate], points_px: lis
     return keep
 
 
-def on_hand(objects: list[ObjectCandidate], arm3d: Arm3D, reach_m: float = HAND_LENGTH_M) -> np.ndarray:
-    """Return a bool per object: does its centre lie within the pointing hand's reach of the wrist (metres)?
+HAND_HALF_WIDTH_M = 0.07
+"""Half the width of a gloved hand across the forearm's line, with room for stereo noise, metres."""
+
+
+def on_hand(points_m: list[np.ndarray], depth_sigma_m: list[float], arm3d: Arm3D,
+            reach_m: float = HAND_LENGTH_M, half_width_m: float = HAND_HALF_WIDTH_M) -> np.ndarray:
+    """Return a bool per object (its 3D points, metres): does all of it lie where the pointing hand is?
 
     The hand beyond the wrist joint (glove, fingers) has texture of its own: matched, its features form an
     object a few centimetres ahead of the wrist, exactly on the arm's line, which the pointing fit then
     rates as the best pointed object there is (line_of_sight, seed 900, scene 9: a 3-feature object
     0.07 m from the wrist took P 0.53 from the pointed placard). The diver's own hand is never the
-    target. The object's offset across the line of sight is measured at the wrist's depth (a wrong
-    depth does not move it in the image); its depth gap counts beyond two sigmas of both depths.
+    target. The hand is a capsule: up to ``reach_m`` beyond the wrist along the forearm, ``half_width_m``
+    across it, measured in the plane at the wrist's depth (each point's image position scaled to that
+    depth, so a wrong stereo depth does not move it), and within ``reach_m`` of the wrist's depth beyond
+    one sigma of both depths. EVERY point of the object must lie in it: a placard at arm's length, the
+    hand in front of it, spreads beyond (variant_10_04: a 0.31 m placard 0.6 m from the diver's shoulder).
     """
-    wrist = arm3d.joint("wrist")
-    out = np.zeros(len(objects), bool)
-    for k, obj in enumerate(objects):
-        z = max(float(obj.xyz_m[2]), 1e-6)
-        across = float(np.linalg.norm(obj.xyz_m[:2] * (wrist[2] / z) - wrist[:2]))
-        gap = max(abs(z - float(wrist[2])) - 2.0 * math.hypot(float(arm3d.depth_sigma_m[2]), obj.depth_sigma_m), 0.0)
-        out[k] = math.hypot(across, gap) <= reach_m
+    _, elbow, wrist = arm3d.xyz_m
+    w2 = wrist[:2]
+    e2 = elbow[:2] * (wrist[2] / max(float(elbow[2]), 1e-6))
+    forearm = w2 - e2
+    norm = float(np.linalg.norm(forearm))
+    out = np.zeros(len(points_m), bool)
+    if norm < 1e-6:
+        return out
+    u = forearm / norm
+    for k, (pts, sigma) in enumerate(zip(points_m, depth_sigma_m)):
+        pts = pts[np.all(np.isfinite(pts), axis=1) & (pts[:, 2] > 0)]
+        if not len(pts):
+            continue
+        rel = pts[:, :2] * (wrist[2] / pts[:, 2:3]) - w2
+        along = rel @ u
+        across = np.abs(rel[:, 0] * u[1] - rel[:, 1] * u[0])
+        gap = np.abs(pts[:, 2] - wrist[2]) - math.hypot(float(arm3d.depth_sigma_m[2]), sigma)
+        out[k] = bool(np.all((along >= -half_width_m) & (along <= reach_m) & (across <= half_width_m)
+                             & (gap <= reach_m)))
     return out
 
 
@@ -288,7 +308,7 @@ class DefaultSelector(PointingSelector):
     method = "default"
 
     def __init__(self, model: ArmModel = ArmModel(), group_radius_px: float = 20.0, group_radius_m: float = 0.05,
-                 min_object_features: int = 3, min_confidence: float = 0.6, object_radius_m: float = 0.2,
+                 min_object_features: int = 3, min_confidence: float = 0.6, object_radius_m: float = 0.15,
                  open_set: OpenSet = OpenSet(), evidence: str = "laplace", evidence_samples: int = 2048,
                  unrecognised_weight: float = 1.0) -> None:
         self.model, self.open_set = model, open_set
@@ -321,7 +341,8 @@ class DefaultSelector(PointingSelector):
         fit = _PointingFit(rays, arm3d.xyz_m[:, 2], arm3d.depth_sigma_m, self.model, keypoint_sigma_m)
         shapes = np.stack([object_shape(xyz_m[list(o.members)], o.xyz_m) for o in objects])
         allowed = image_gate(arm, objects, [candidates.left_px[list(o.members)] for o in objects], rig, arm3d,
-                             self.model, self.open_set, fit.pointing_sigma_rad) & ~on_hand(objects, arm3d)
+                             self.model, self.open_set, fit.pointing_sigma_rad) & ~on_hand([xyz_m[list(o.members)] for o in objects],
+                                                               [o.depth_sigma_m for o in objects], arm3d)
         log_odds = np.full(len(objects), -np.inf)
         if np.any(allowed):  # an object the image gate rules out never wins: no evidence needed
             idx = np.flatnonzero(allowed)

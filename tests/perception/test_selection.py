@@ -233,6 +233,9 @@ def test_the_pointing_hands_own_features_are_never_the_target():
     assert sel.index == 1 - hand_index and not sel.ambiguous
     near, _, _ = _select(arm, cluster(wrist + 0.25 * u, 20, 0.06, seed=13))
     assert near.index == 0
+    # a placard at arm's length: its centre 0.12 m beyond the wrist, but 0.3 m wide (variant_10_04)
+    at_hand, _, _ = _select(arm, cluster(wrist + 0.12 * u + np.array([0.0, 0.0, 0.05]), 20, 0.15, seed=14))
+    assert at_hand.index == 0 and at_hand.scores[0] > 0.5
 
 
 def test_pipeline_reports_nothing_on_ray_with_reason_and_json():
