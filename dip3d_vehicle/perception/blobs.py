@@ -159,13 +159,17 @@ class BlobFinder:
             if len(apart) >= self.max_blobs:
                 break
         far = np.array(apart, float).reshape(-1, 2)
-        room = min(self.max_beside, self.max_blobs - len(far))
+        room = self._beside_slots(len(far))
         if room <= 0 or not beside:
             return far, [()] * len(far)
         near_px = np.array([q[:2] for q in beside], float)
         order = np.argsort(wedge_offset(poly, near_px), kind="stable") if poly is not None else np.arange(len(beside))
         order = order[:room * BESIDE_TRIES_PER_SLOT]
         return np.vstack([far, near_px[order]]), [()] * len(far) + [beside[k][2] for k in order]
+
+    def _beside_slots(self, n_apart: int) -> int:
+        """Return how many spots beside objects may be kept next to ``n_apart`` spots apart from every object."""
+        return min(self.max_beside, self.max_blobs - n_apart)
 
     def _spots_in(self, left_rect: np.ndarray, piece: np.ndarray, box: tuple[int, int, int, int]
                   ) -> list[tuple[float, float, float]]:
@@ -219,7 +223,7 @@ class BlobFinder:
         d_lo, d_hi = fb / self.max_depth_m, fb / self.min_depth_m
         half = int(max(4, round(2.0 * self.inner_sigma_px + 2)))
         keep, disp, sigma = [], [], []
-        room = min(self.max_beside, self.max_blobs - sum(1 for near in owners if not near))
+        room = self._beside_slots(sum(1 for near in owners if not near))
         for (x, y), near in zip(spots, owners):
             if near and room <= 0:
                 break   # the spots beside objects come last: their slots are filled

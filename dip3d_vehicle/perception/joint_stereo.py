@@ -380,10 +380,11 @@ def match_arm(arm: ArmKeypoints, left: np.ndarray, right: np.ndarray, sign: int,
     depth; the head's stays 0.12 m wide). The match's sigma is its own, at least
     ``floor_px`` times ``JOINT_FLOOR_FACTOR`` (the patch shows the limb's near surface, a few
     centimetres before the joint's centre; the elbow's often holds the torso behind it), and for
-    the shoulder at least ``SHOULDER_MATCH_SIGMA_M`` of depth (its patch matches the deltoid's surface: the match moves back by ``SHOULDER_SURFACE_M``). A
-    shoulder whose flat patch does not match takes the given head's match instead
-    (``_head_disparity``), and an elbow / wrist matched on the body behind it is set aside
-    (``_matched_on_body``; the body's depth from the head, else the shoulder's match). A match
+    the shoulder at least ``SHOULDER_MATCH_SIGMA_M`` of depth (its patch matches the deltoid's
+    surface: the match moves back by ``SHOULDER_SURFACE_M``). A shoulder whose flat patch does not
+    match takes the given head's match instead (``_head_disparity``), and an elbow / wrist matched
+    on the body behind it is set aside (``_matched_on_body``; the body's depth from the head, else
+    the shoulder's match). A match
     within ``MATCH_GROSS_SIGMAS`` of the given disparity (sigma ``given_sigma_px``) is combined with
     it by inverse variance: the joint moves to the left joint's row at that disparity, with that
     sigma; a farther one, or none, leaves the joint as given. The arm is returned unchanged when its

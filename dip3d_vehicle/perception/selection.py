@@ -339,10 +339,11 @@ class DefaultSelector(PointingSelector):
         given = arm.keypoint_sigma_m
         keypoint_sigma_m = self.model.keypoint_sigma_m if given is None else float(given)
         fit = _PointingFit(rays, arm3d.xyz_m[:, 2], arm3d.depth_sigma_m, self.model, keypoint_sigma_m)
-        shapes = np.stack([object_shape(xyz_m[list(o.members)], o.xyz_m) for o in objects])
+        points = [xyz_m[list(o.members)] for o in objects]
+        shapes = np.stack([object_shape(pts, o.xyz_m) for pts, o in zip(points, objects)])
         allowed = image_gate(arm, objects, [candidates.left_px[list(o.members)] for o in objects], rig, arm3d,
-                             self.model, self.open_set, fit.pointing_sigma_rad) & ~on_hand([xyz_m[list(o.members)] for o in objects],
-                                                               [o.depth_sigma_m for o in objects], arm3d)
+                             self.model, self.open_set, fit.pointing_sigma_rad)
+        allowed &= ~on_hand(points, [o.depth_sigma_m for o in objects], arm3d)
         log_odds = np.full(len(objects), -np.inf)
         if np.any(allowed):  # an object the image gate rules out never wins: no evidence needed
             idx = np.flatnonzero(allowed)

@@ -23,3 +23,11 @@ def draws(scene: sf.Scene, seed0: int, k: int, sigma_px: float) -> Iterator[tupl
             kp = sf.noisy(truth, s, rng)
             if s == sigma_px:
                 yield d, kp, joints
+
+
+def nth_scene(tmp, family: str, seed0: int, n: int) -> sf.Scene:
+    """Return scene ``n`` (from 0) of a family as the families' tally draws it (``tmp``: a folder for its files)."""
+    for k, scene in enumerate(sf.scenes(tmp, family, n + 1, seed0)):
+        if k == n:
+            return scene
+    raise ValueError(f"{family} seed {seed0} has no scene {n}")
