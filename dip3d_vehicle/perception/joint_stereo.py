@@ -328,18 +328,31 @@ HEAD_SHOULDER_SIGMA_M = 0.15
 half a shoulder width (0.19 m) times the torso's turn, with the face a few centimetres before the neck."""
 
 
+HEAD_PATCHES_M = (0.12, 0.2)
+"""Widths (metres at the body's depth) of the head's patch, tried in turn until one matches: a far diver's
+head in murky water is a flat dark hood at 0.12 m, its outline against the water matches at 0.2 m (issue 11
+session 24, the open-set families at 2 px, seed 500: of the far_diver draws whose shoulder patch is flat,
+the head matched in 92 of 145 at 0.12 m, 130 at 0.12 then 0.2 m, the shoulder joint 0.13 m behind the
+match in the median, |error| p90 0.16 m; the keypoints' own shoulder depth error there: median 0.35 m,
+p90 0.90 m)."""
+
+
 def _head_disparity(arm: ArmKeypoints, left: np.ndarray, right: np.ndarray, body_px: float, sign: int,
                     focal_px: float, baseline_m: float) -> tuple[float, float] | None:
     """Return the given head's matched disparity and its sigma as the shoulder's (pixels), or None.
 
-    None when the pose source gave no head (``extra_left_px["head"]``) or its patch did not match.
-    The head stands for the torso's depth: the shoulder's sigma is at least ``HEAD_SHOULDER_SIGMA_M``.
+    None when the pose source gave no head (``extra_left_px["head"]``) or no patch of ``HEAD_PATCHES_M``
+    matched. The head stands for the torso's depth: the shoulder's sigma is at least ``HEAD_SHOULDER_SIGMA_M``.
     """
     head = (arm.extra_left_px or {}).get("head")
     if head is None:
         return None
-    found = joint_disparities(left, right, np.array([head], float), body_px, sign, focal_px, baseline_m)
-    if not found.matched[0]:
+    for patch_m in HEAD_PATCHES_M:
+        found = joint_disparities(left, right, np.array([head], float), body_px, sign, focal_px, baseline_m,
+                                  patch_m=patch_m)
+        if found.matched[0]:
+            break
+    else:
         return None
     d = float(found.disparity_px[0])
     return d, max(float(found.sigma_px[0]), d ** 2 / (focal_px * baseline_m) * HEAD_SHOULDER_SIGMA_M)
@@ -377,7 +390,7 @@ def match_arm(arm: ArmKeypoints, left: np.ndarray, right: np.ndarray, sign: int,
     left joint's patch is searched along the same rectified row of the right image, within the
     depths an arm reaches from the body (the keypoints' median disparity), as BlazePose's
     ``joint_disparity: stereo`` does (``joint_disparities``, patches ``patch_m`` wide at the body's
-    depth; the head's stays 0.12 m wide). The match's sigma is its own, at least
+    depth; the head's is ``HEAD_PATCHES_M``). The match's sigma is its own, at least
     ``floor_px`` times ``JOINT_FLOOR_FACTOR`` (the patch shows the limb's near surface, a few
     centimetres before the joint's centre; the elbow's often holds the torso behind it), and for
     the shoulder at least ``SHOULDER_MATCH_SIGMA_M`` of depth (its patch matches the deltoid's
