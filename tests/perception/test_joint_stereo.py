@@ -210,6 +210,29 @@ def test_match_arm_takes_the_heads_match_for_a_flat_shoulder():
     assert abs(out.left_px[0, 0] - out.right_px[0, 0] - (37.0 * w[0] + 33.0 * w[1]) / w.sum()) < 0.3
 
 
+def test_a_flat_hood_is_matched_by_the_heads_outline_with_a_wider_patch(monkeypatch):
+    """A far diver's hood is flat at 0.12 m (murky water): the 0.2 m patch holds its outline and matches."""
+    from dip3d_vehicle.perception import joint_stereo
+    from dip3d_vehicle.perception.joint_stereo import HEAD_SHOULDER_SIGMA_M, match_arm
+
+    left, right = _pair(37)
+    left[70:131, 160:241] = 90                                 # the shoulder's patch: flat wetsuit
+    right[70:131, 123:204] = 90
+    left[21:60, 181:220] = 60                                  # the hood: flat over the 0.12 m patch (19 px each side)
+    right[21:60, 144:183] = 60
+    arm = replace(_noisy_arm(37.0, np.random.default_rng(3), 0.0), extra_left_px={"head": (200.0, 40.0)})
+    arm.right_px[0, 0] = arm.left_px[0, 0] - 33.0                # the shoulder's given disparity 4 px off
+    monkeypatch.setattr(joint_stereo, "HEAD_PATCHES_M", (0.12,))
+    out = match_arm(arm, left, right, 1, 920.0, 0.12, floor_px=1.0, given_sigma_px=2.8)
+    assert not out.disparity_matched[0]                        # the hood alone: no match, the shoulder as given
+    monkeypatch.undo()
+    out = match_arm(arm, left, right, 1, 920.0, 0.12, floor_px=1.0, given_sigma_px=2.8)
+    s_head = 37.0 ** 2 / (920.0 * 0.12) * HEAD_SHOULDER_SIGMA_M
+    w = np.array([1.0 / s_head ** 2, 1.0 / 2.8 ** 2])
+    assert out.disparity_matched[0]
+    assert abs(out.left_px[0, 0] - out.right_px[0, 0] - (37.0 * w[0] + 33.0 * w[1]) / w.sum()) < 0.3
+
+
 def test_a_matched_joints_sigma_is_used_as_it_is_and_unset_keeps_the_keypoints():
     from dip3d_vehicle.config import load_params
     from dip3d_vehicle.perception.keypoints_file import GivenKeypoints
