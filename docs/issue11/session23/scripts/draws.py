@@ -1,6 +1,7 @@
 """The families' noisy draws of one scene, at one noise level, as ``scene_families.tally_family`` draws them."""
 from __future__ import annotations
 
+import sys
 from collections.abc import Iterator
 
 import numpy as np
@@ -31,3 +32,10 @@ def nth_scene(tmp, family: str, seed0: int, n: int) -> sf.Scene:
         if k == n:
             return scene
     raise ValueError(f"{family} seed {seed0} has no scene {n}")
+
+
+def scene_args(argv: list[str] | None = None) -> tuple[str, int, int, float, int, list[str]]:
+    """Return (family, seed0, scene, noise px, draw, KEY=VALUE overrides) of ``FAMILY SEED0 SCENE [NOISE_PX DRAW] [K=V ...]``."""
+    a = sys.argv[1:] if argv is None else argv
+    return (a[0], int(a[1]), int(a[2]), float(a[3]) if len(a) > 3 else 0.0, int(a[4]) if len(a) > 4 else 0,
+            list(a[5:]))

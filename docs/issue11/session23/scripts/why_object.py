@@ -4,22 +4,18 @@
 """
 from __future__ import annotations
 
-import sys
 import tempfile
 from pathlib import Path
 
 import numpy as np
 
 import scene_families as sf
-from draws import draws, nth_scene
+from draws import draws, nth_scene, scene_args
 
 
 def main() -> None:
     """Print the arm, then per object: placard, gate, cost, log odds."""
-    family, seed0, want = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
-    sigma = float(sys.argv[4]) if len(sys.argv) > 4 else 0.0
-    want_draw = int(sys.argv[5]) if len(sys.argv) > 5 else 0
-    overrides = sys.argv[6:]
+    family, seed0, want, sigma, want_draw, overrides = scene_args()
     with tempfile.TemporaryDirectory() as tmp:
         scene = nth_scene(Path(tmp), family, seed0, want)
         rig, left, right, pose, perception, _, base = sf.prepared(scene, "default", overrides)

@@ -4,21 +4,18 @@
 """
 from __future__ import annotations
 
-import sys
 import tempfile
 from pathlib import Path
 
 import numpy as np
 
 import scene_families as sf
-from draws import draws, nth_scene
+from draws import draws, nth_scene, scene_args
 
 
 def main() -> None:
     """Print the wedge, the responses near the target, and what the finder made of them."""
-    family, seed0, want = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
-    sigma = float(sys.argv[4]) if len(sys.argv) > 4 else 0.0
-    want_draw = int(sys.argv[5]) if len(sys.argv) > 5 else 0
+    family, seed0, want, sigma, want_draw, _ = scene_args()
     from dip3d_vehicle.perception.selection import group_objects
     from dip3d_vehicle.perception.triangulation import triangulate
     from dip3d_vehicle.perception.blobs import wedge_offset

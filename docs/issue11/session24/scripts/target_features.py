@@ -4,7 +4,6 @@
 """
 from __future__ import annotations
 
-import sys
 import tempfile
 from pathlib import Path
 
@@ -12,15 +11,12 @@ import cv2
 import numpy as np
 
 import scene_families as sf
-from draws import draws, nth_scene
+from draws import draws, nth_scene, scene_args
 
 
 def main() -> None:
-    """Print every candidate on the target placard with its 3D point and group label."""
-    family, seed0, want = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
-    sigma = float(sys.argv[4]) if len(sys.argv) > 4 else 0.0
-    want_draw = int(sys.argv[5]) if len(sys.argv) > 5 else 0
-    overrides = sys.argv[6:]
+    """Print every candidate on the target placard with its 3D point and its group (min 1 feature: the fragments, none joined)."""
+    family, seed0, want, sigma, want_draw, overrides = scene_args()
     from dip3d_vehicle.perception.selection import group_objects
     from dip3d_vehicle.perception.triangulation import triangulate
     with tempfile.TemporaryDirectory() as tmp:
