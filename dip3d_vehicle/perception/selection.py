@@ -123,8 +123,7 @@ def group_objects(candidates: Candidates, xyz_m: np.ndarray, rig: StereoRig, rad
     pairs = cKDTree(candidates.left_px).query_pairs(radius_px, output_type="ndarray") if n > 1 else np.zeros((0, 2), int)
     if len(pairs):
         i, j = pairs[:, 0], pairs[:, 1]
-        tol = np.maximum(radius_m, 3.0 * np.hypot(sig[i], sig[j]))
-        pairs = pairs[np.abs(z[i] - z[j]) <= tol]
+        pairs = pairs[_depths_agree(z[i], z[j], sig[i], sig[j], radius_m)]
     labels = _components(n, pairs)
     Q = normalize_q(rig.Q, rig.disparity_sign)
     groups = _groups(labels)
@@ -135,8 +134,7 @@ def group_objects(candidates: Candidates, xyz_m: np.ndarray, rig: StereoRig, rad
         close = cKDTree(centres[idx]).query_pairs(object_radius_m, output_type="ndarray")
         if len(close):
             za, zb = centres[idx[close[:, 0]], 2], centres[idx[close[:, 1]], 2]
-            tol = np.maximum(radius_m, 3.0 * np.hypot(*rig.depth_sigma_m(np.stack([za, zb]), MATCH_SIGMA_PX)))
-            close = close[np.abs(za - zb) <= tol]
+            close = close[_depths_agree(za, zb, *rig.depth_sigma_m(np.stack([za, zb]), MATCH_SIGMA_PX), radius_m)]
         merged = _components(len(idx), close)
         groups = [np.concatenate([groups[idx[k]] for k in ks]) for ks in _groups(merged)]
     groups = _join_small_fragments(groups, xyz_m, sig, radius_m, min_features, object_radius_m)
@@ -148,6 +146,12 @@ def group_objects(candidates: Candidates, xyz_m: np.ndarray, rig: StereoRig, rad
         sigma = float(rig.depth_sigma_m(centre[2], max(1.25 * MATCH_SIGMA_PX / math.sqrt(len(members)), 0.1)))
         out.append(ObjectCandidate(px, centre, sigma, tuple(int(m) for m in members)))
     return out
+
+
+def _depths_agree(za: np.ndarray, zb: np.ndarray, sigma_a: np.ndarray, sigma_b: np.ndarray,
+                  radius_m: float) -> np.ndarray:
+    """Return whether two depths (metres) may be one surface: apart by at most max(radius_m, 3 combined sigmas)."""
+    return np.abs(za - zb) <= np.maximum(radius_m, 3.0 * np.hypot(sigma_a, sigma_b))
 
 
 def _join_small_fragments(groups: list[np.ndarray], xyz_m: np.ndarray, sigma_m: np.ndarray, radius_m: float,
@@ -168,13 +172,13 @@ def _join_small_fragments(groups: list[np.ndarray], xyz_m: np.ndarray, sigma_m: 
     members = np.concatenate([groups[k] for k in small])
     owner = np.repeat(np.arange(len(small)), [len(groups[k]) for k in small])
     pts = xyz_m[members]
-    ok = np.all(np.isfinite(pts), axis=1)
-    pairs = cKDTree(pts[ok, :2]).query_pairs(object_radius_m, output_type="ndarray")
+    finite = np.flatnonzero(np.all(np.isfinite(pts), axis=1))
+    pairs = cKDTree(pts[finite, :2]).query_pairs(object_radius_m, output_type="ndarray")
     if not len(pairs):
         return groups
-    i, j = np.flatnonzero(ok)[pairs[:, 0]], np.flatnonzero(ok)[pairs[:, 1]]
-    tol = np.maximum(radius_m, 3.0 * np.hypot(sigma_m[members[i]], sigma_m[members[j]]))
-    keep = (np.abs(pts[i, 2] - pts[j, 2]) <= tol) & (owner[i] != owner[j])
+    i, j = finite[pairs[:, 0]], finite[pairs[:, 1]]
+    keep = (_depths_agree(pts[i, 2], pts[j, 2], sigma_m[members[i]], sigma_m[members[j]], radius_m)
+            & (owner[i] != owner[j]))
     joined = _components(len(small), np.c_[owner[i], owner[j]][keep])
     big = [g for k, g in enumerate(groups) if len(g) >= min_features]
     return big + [np.sort(np.concatenate([groups[small[k]] for k in ks])) for ks in _groups(joined)]
