@@ -265,27 +265,6 @@ def test_a_flat_hood_is_matched_by_the_heads_outline_with_a_wider_patch(monkeypa
     assert abs(out.left_px[0, 0] - out.right_px[0, 0] - (37.0 * w[0] + 33.0 * w[1]) / w.sum()) < 0.3
 
 
-def test_a_faint_wrist_is_matched_by_its_sleeves_outline_with_a_wider_patch(monkeypatch):
-    """A far or murky wrist is flat at the 0.06 m patch: the 0.12 m patch holds the sleeve's outline and matches."""
-    from dip3d_vehicle.perception import joint_stereo
-    from dip3d_vehicle.perception.joint_stereo import match_arm
-
-    left, right = _pair(37)
-    left[111:130, 291:310] = 60                                # the glove: flat over the 0.06 m patch (9 px each side)
-    right[111:130, 254:273] = 60
-    arm = _noisy_arm(37.0, np.random.default_rng(3), 0.0)
-    arm.right_px[2, 0] = arm.left_px[2, 0] - 33.0                # the wrist's given disparity 4 px off
-    monkeypatch.setattr(joint_stereo, "LIMB_WIDE_PATCH_M", 0.06)
-    out = match_arm(arm, left, right, 1, 920.0, 0.12, floor_px=1.0, given_sigma_px=2.8)
-    assert not out.disparity_matched[2]                        # the glove alone: no match, the wrist as given
-    assert out.disparity_matched[:2].all()                     # (the textured shoulder and elbow match as before)
-    monkeypatch.undo()
-    out = match_arm(arm, left, right, 1, 920.0, 0.12, floor_px=1.0, given_sigma_px=2.8)
-    w = np.array([1.0, 1.0 / 2.8 ** 2])                        # the match's sigma at its 1 px floor; the given's
-    assert out.disparity_matched[2]
-    assert abs(out.left_px[2, 0] - out.right_px[2, 0] - (37.0 * w[0] + 33.0 * w[1]) / w.sum()) < 0.3
-
-
 def test_a_matched_joints_sigma_is_used_as_it_is_and_unset_keeps_the_keypoints():
     from dip3d_vehicle.config import load_params
     from dip3d_vehicle.perception.keypoints_file import GivenKeypoints
