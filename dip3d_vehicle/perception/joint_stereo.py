@@ -393,32 +393,6 @@ def _head_disparity(arm: ArmKeypoints, left: np.ndarray, right: np.ndarray, body
     return d, max(float(found.sigma_px[0]), d ** 2 / fb * sigma_m)
 
 
-LIMB_WIDE_PATCH_M = 0.12
-"""Width (metres at the body's depth) at which an elbow / wrist whose ``pose.match_disparity_patch_m`` patch
-(0.06 m) did not match is tried again: a far or murky limb is too faint for the narrow patch, its sleeve's
-outline against the water matches at the wider one (issue 11 session 25, the open-set families at 2 px, seed
-500: far_diver's elbow matched in 52 of 160 draws at 0.06 m, in 96 more at 0.12 m, disparity error median
-0.63 px, p90 1.9 px, against 1.8 / 4.5 px for those draws' given keypoints; in the murky mission scenarios
-the 0.06 m wrist patch mostly scores under the match's 0.6, the 0.12 m one matches within 1 px)."""
-
-
-def _widened(found: JointDisparity, left: np.ndarray, right: np.ndarray, left_xy: np.ndarray, body_px: float,
-             sign: int, focal_px: float, baseline_m: float) -> JointDisparity:
-    """Return ``found`` with each unmatched elbow / wrist matched again at ``LIMB_WIDE_PATCH_M`` where that matches."""
-    redo = [k for k in (1, 2) if k < len(left_xy) and not found.matched[k]]
-    if not redo:
-        return found
-    wide = joint_disparities(left, right, np.asarray(left_xy, float)[redo], body_px, sign, focal_px, baseline_m,
-                             patch_m=LIMB_WIDE_PATCH_M)
-    disp, sigma, matched, score = (found.disparity_px.copy(), found.sigma_px.copy(), found.matched.copy(),
-                                   found.score.copy())
-    for i, k in enumerate(redo):
-        if wide.matched[i]:
-            disp[k], sigma[k], matched[k], score[k] = (wide.disparity_px[i], wide.sigma_px[i], True,
-                                                       wide.score[i])
-    return JointDisparity(disp, sigma, matched, score)
-
-
 def _matched_on_body(left_xy: np.ndarray, disparity_px: np.ndarray, matched: np.ndarray, body_px: float,
                      focal_px: float, baseline_m: float) -> np.ndarray:
     """Return which elbow / wrist matches lie on the body behind a foreshortened limb (bool per joint).
@@ -451,8 +425,7 @@ def match_arm(arm: ArmKeypoints, left: np.ndarray, right: np.ndarray, sign: int,
     left joint's patch is searched along the same rectified row of the right image, within the
     depths an arm reaches from the body (the keypoints' median disparity), as BlazePose's
     ``joint_disparity: stereo`` does (``joint_disparities``, patches ``patch_m`` wide at the body's
-    depth; the head's is ``HEAD_PATCHES_M``, an elbow / wrist that does not match is tried again at
-    ``LIMB_WIDE_PATCH_M``). The match's sigma is its own, at least
+    depth; the head's is ``HEAD_PATCHES_M``). The match's sigma is its own, at least
     ``floor_px`` times ``JOINT_FLOOR_FACTOR`` (the patch shows the limb's near surface, a few
     centimetres before the joint's centre; the elbow's often holds the torso behind it), and for
     the shoulder at least ``SHOULDER_MATCH_SIGMA_M`` of depth (its patch matches the deltoid's
@@ -470,7 +443,6 @@ def match_arm(arm: ArmKeypoints, left: np.ndarray, right: np.ndarray, sign: int,
     if not math.isfinite(body) or sign * body <= 0.5:
         return arm
     found = joint_disparities(left, right, arm.left_px, body, sign, focal_px, baseline_m, patch_m=patch_m)
-    found = _widened(found, left, right, arm.left_px, body, sign, focal_px, baseline_m)
     match_sigma = found.floored_sigma_px(floor_px)
     fb = focal_px * baseline_m
     if found.matched[0]:   # the deltoid's surface: the joint lies behind it
