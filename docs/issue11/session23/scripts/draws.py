@@ -39,3 +39,16 @@ def scene_args(argv: list[str] | None = None) -> tuple[str, int, int, float, int
     a = sys.argv[1:] if argv is None else argv
     return (a[0], int(a[1]), int(a[2]), float(a[3]) if len(a) > 3 else 0.0, int(a[4]) if len(a) > 4 else 0,
             list(a[5:]))
+
+
+def arm_draws(tmp, family: str, n: int, seed0: int, sigma_px: float, profile: str = "default"):
+    """Yield (scene index, rig, left, right, the pose's arm, truth joints) for every draw of a family's first n scenes.
+
+    The arm is the pose source's (keypoints as drawn, rectified px) before any row matching; the images are
+    the rectified pair; ``tmp`` is a folder for the scenes' files.
+    """
+    for k, scene in enumerate(sf.scenes(tmp, family, n, seed0)):
+        rig, left, right, pose, _, _, _ = sf.prepared(scene, profile)
+        for _, kp, joints in draws(scene, seed0, k, sigma_px):
+            pose.provide(kp)
+            yield k, rig, left, right, pose.estimate(left, right, rig), joints

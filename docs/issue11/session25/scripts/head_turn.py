@@ -1,0 +1,60 @@
+"""Per family: the pointing shoulder's depth about the head's match, by the torso's turn read in the image.
+
+    PYTHONPATH=.:tests/perception:docs/issue11/session23/scripts python docs/issue11/session25/scripts/head_turn.py SEED0 [N] [NOISE_PX]
+
+For every draw whose head matched (``joint_stereo._head_disparity``): the truth shoulder joint's depth
+minus the head match's (metres), grouped by sin(turn) from the shoulder's image offset across the head
+(``head_shoulder_sigma_m``'s reading), with the fixed sigma (``HEAD_SHOULDER_SIGMA_M``) and the turn's
+sigma (``head_shoulder_sigma_m``) and the share of draws each puts beyond 3 sigma.
+"""
+from __future__ import annotations
+
+import collections
+import math
+import sys
+import tempfile
+from pathlib import Path
+
+import numpy as np
+
+from draws import arm_draws
+
+FAMILIES = ("line_of_sight", "far", "undetectable", "elbow", "far_diver")
+
+
+def main() -> None:
+    """Print one block per family."""
+    from dip3d_vehicle.perception import joint_stereo as js
+    seed0 = int(sys.argv[1])
+    n = int(sys.argv[2]) if len(sys.argv) > 2 else 20
+    noise = float(sys.argv[3]) if len(sys.argv) > 3 else 2.0
+    with tempfile.TemporaryDirectory() as tmp:
+        for family in FAMILIES:
+            rows = []
+            for _, rig, left, right, arm, joints in arm_draws(Path(tmp), family, n, seed0, noise):
+                fb = rig.focal_px * rig.baseline_m
+                body = float(np.median(arm.left_px[:, 0] - arm.right_px[:, 0]))
+                head = js._head_disparity(arm, left, right, body, rig.disparity_sign, rig.focal_px, rig.baseline_m)
+                if head is None:
+                    continue
+                depth = fb / abs(head[0])
+                head_px = np.asarray(arm.extra_left_px["head"], float)
+                dx_m = abs(arm.left_px[0, 0] - head_px[0]) * depth / rig.focal_px
+                sin_turn = math.sqrt(1.0 - min(dx_m / 0.19, 1.0) ** 2)
+                sigma = js.head_shoulder_sigma_m(arm.left_px[0], head_px, depth, rig.focal_px)
+                rows.append((joints["shoulder"][2] - depth, sin_turn, sigma))
+            a = np.array(rows)
+            off = a[:, 0]
+            print(f"{family}: {len(a)} draws with the head matched; beyond 3 sigma: fixed "
+                  f"{np.mean(abs(off) > 3 * js.HEAD_SHOULDER_SIGMA_M) * 100:.1f} %, turn "
+                  f"{np.mean(abs(off) > 3 * a[:, 2]) * 100:.1f} %")
+            for lo, hi in ((0.0, 0.5), (0.5, 0.85), (0.85, 1.01)):
+                m = (a[:, 1] >= lo) & (a[:, 1] < hi)
+                if m.any():
+                    print(f"    sin(turn) {lo:.2f}-{hi:.2f}: {m.sum():3d} draws, shoulder - head match median "
+                          f"{np.median(off[m]):+.3f} m, |.| p90 {np.percentile(abs(off[m]), 90):.3f} m; "
+                          f"turn sigma median {np.median(a[m, 2]):.3f} m", flush=True)
+
+
+if __name__ == "__main__":
+    main()
