@@ -324,41 +324,8 @@ TORSO_LENGTH_M = 0.5
 """An adult's torso length (shoulders' to hips' midpoints), metres: the unit of ``LIMB_PER_TORSO``."""
 
 HEAD_SHOULDER_SIGMA_M = 0.15
-"""One-sigma depth distance (metres) between the head's matched surface and the pointing shoulder's joint
-when the torso's turn cannot be read from the image (``head_shoulder_sigma_m``): half a shoulder width
-(0.19 m) times the torso's turn, with the face a few centimetres before the neck."""
-
-HEAD_SHOULDER_TURN_M = 0.14
-"""How far (depth, metres) the pointing shoulder's joint lies from the head's matched surface, nearer or
-farther, when the torso is side-on to the camera: half a shoulder width (0.19 m) less the head's own near
-side (the open-set families at 2 px, seed 500, the head's match standing for the shoulder: 0.11-0.14 m,
-median per family, for a torso turned more than 60 deg; issue 11 session 25)."""
-
-HEAD_SHOULDER_FRONT_M = 0.04
-"""One-sigma depth distance (metres) between the head's matched surface and the pointing shoulder's joint
-when the torso faces the camera (the same families, a torso turned less than 30 deg: |distance| p90
-0.036-0.047 m, median 0.011-0.015 m)."""
-
-HEAD_ABOVE_SHOULDER_M = 0.1
-"""The head's keypoint must lie at least this far (metres at the head's depth) above the shoulder's in the
-image for the torso's turn to be read from their offset across (an upright torso: 0.2-0.27 m)."""
-
-
-def head_shoulder_sigma_m(shoulder_px: np.ndarray, head_px: np.ndarray, depth_m: float, focal_px: float) -> float:
-    """Return the depth sigma (metres) of the pointing shoulder's joint about the head's matched surface.
-
-    An upright torso's shoulders lie half a shoulder width (``SHOULDER_WIDTH_M``) either side of the
-    head's vertical: the pointing shoulder's image offset across it (pixels, scaled to metres at
-    ``depth_m``) is that half width times cos(turn), and the shoulder lies ``HEAD_SHOULDER_TURN_M`` x
-    sin(turn) nearer or farther than the head (which way the image cannot tell), within
-    ``HEAD_SHOULDER_FRONT_M``. A head not ``HEAD_ABOVE_SHOULDER_M`` above the shoulder (a diver lying
-    prone, a rolled view) says nothing of the turn: ``HEAD_SHOULDER_SIGMA_M``.
-    """
-    dx_m, dy_m = (np.asarray(shoulder_px, float) - np.asarray(head_px, float)) * depth_m / focal_px
-    if not dy_m >= HEAD_ABOVE_SHOULDER_M:
-        return HEAD_SHOULDER_SIGMA_M
-    cos_turn = min(abs(float(dx_m)) / (0.5 * SHOULDER_WIDTH_M[0]), 1.0)
-    return math.hypot(HEAD_SHOULDER_TURN_M * math.sqrt(1.0 - cos_turn ** 2), HEAD_SHOULDER_FRONT_M)
+"""One-sigma depth distance (metres) between the head's matched surface and the pointing shoulder's joint:
+half a shoulder width (0.19 m) times the torso's turn, with the face a few centimetres before the neck."""
 
 
 HEAD_PATCHES_M = (0.12, 0.2)
@@ -375,7 +342,7 @@ def _head_disparity(arm: ArmKeypoints, left: np.ndarray, right: np.ndarray, body
     """Return the given head's matched disparity and its sigma as the shoulder's (pixels), or None.
 
     None when the pose source gave no head (``extra_left_px["head"]``) or no patch of ``HEAD_PATCHES_M``
-    matched. The head stands for the torso's depth: the shoulder's sigma is at least ``head_shoulder_sigma_m``'s.
+    matched. The head stands for the torso's depth: the shoulder's sigma is at least ``HEAD_SHOULDER_SIGMA_M``.
     """
     head = (arm.extra_left_px or {}).get("head")
     if head is None:
@@ -388,9 +355,7 @@ def _head_disparity(arm: ArmKeypoints, left: np.ndarray, right: np.ndarray, body
     else:
         return None
     d = float(found.disparity_px[0])
-    fb = focal_px * baseline_m
-    sigma_m = head_shoulder_sigma_m(arm.left_px[0], np.asarray(head, float), fb / abs(d), focal_px)
-    return d, max(float(found.sigma_px[0]), d ** 2 / fb * sigma_m)
+    return d, max(float(found.sigma_px[0]), d ** 2 / (focal_px * baseline_m) * HEAD_SHOULDER_SIGMA_M)
 
 
 def _matched_on_body(left_xy: np.ndarray, disparity_px: np.ndarray, matched: np.ndarray, body_px: float,
