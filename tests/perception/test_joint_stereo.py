@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import math
 import sys
 from dataclasses import replace
 from pathlib import Path
@@ -192,39 +191,8 @@ def test_match_arm_sets_aside_a_foreshortened_joint_matched_on_the_body_behind_i
     assert match_arm(bent, left, right, 1, 920.0, 0.12, 1.0, 2.0).disparity_matched.all()
 
 
-def test_the_heads_stand_in_for_the_shoulder_is_as_sure_as_the_torsos_turn_read_in_the_image():
-    """Facing the camera the shoulder lies half a shoulder width beside the head at its depth; side-on it lies
-    nearer or farther by up to ``HEAD_SHOULDER_TURN_M``; a head not above the shoulder tells no turn."""
-    from dip3d_vehicle.perception.joint_stereo import (HEAD_SHOULDER_FRONT_M, HEAD_SHOULDER_SIGMA_M,
-                                                       HEAD_SHOULDER_TURN_M, head_shoulder_sigma_m)
-
-    f, depth = 920.0, 3.0
-    px = f / depth                                                   # pixels per metre at the head's depth
-    head = np.array([500.0, 300.0])
-    facing = head + [0.19 * px, 0.25 * px]                           # across by half a shoulder width
-    side_on = head + [0.0, 0.25 * px]
-    half = head + [0.19 * px * math.cos(math.radians(60)), 0.25 * px]
-    prone = head + [0.4 * px, 0.02 * px]                             # the head beside the shoulder
-    assert math.isclose(head_shoulder_sigma_m(facing, head, depth, f), HEAD_SHOULDER_FRONT_M)
-    assert math.isclose(head_shoulder_sigma_m(side_on, head, depth, f),
-                        math.hypot(HEAD_SHOULDER_TURN_M, HEAD_SHOULDER_FRONT_M))
-    assert math.isclose(head_shoulder_sigma_m(half, head, depth, f),
-                        math.hypot(HEAD_SHOULDER_TURN_M * math.sin(math.radians(60)), HEAD_SHOULDER_FRONT_M))
-    assert head_shoulder_sigma_m(prone, head, depth, f) == HEAD_SHOULDER_SIGMA_M
-    # the same image offset at twice the depth is twice as many metres across: a torso nearer facing the camera
-    assert head_shoulder_sigma_m(head + [0.1 * px, 0.25 * px], head, 2 * depth, f) < \
-        head_shoulder_sigma_m(head + [0.1 * px, 0.25 * px], head, depth, f)
-
-
-def _head_sigma_px(arm, head, disparity_px: float, f: float = 920.0, b: float = 0.12) -> float:
-    """The shoulder's sigma (disparity, pixels) when the head's match at ``disparity_px`` stands for it."""
-    from dip3d_vehicle.perception.joint_stereo import head_shoulder_sigma_m
-
-    return disparity_px ** 2 / (f * b) * head_shoulder_sigma_m(arm.left_px[0], np.asarray(head), f * b / disparity_px, f)
-
-
 def test_match_arm_takes_the_heads_match_for_a_flat_shoulder():
-    from dip3d_vehicle.perception.joint_stereo import match_arm
+    from dip3d_vehicle.perception.joint_stereo import HEAD_SHOULDER_SIGMA_M, match_arm
 
     left, right = _pair(37)
     left[70:131, 160:241] = 90                                 # the shoulder's patch: flat wetsuit
@@ -236,7 +204,7 @@ def test_match_arm_takes_the_heads_match_for_a_flat_shoulder():
     assert out.right_px[0, 0] == arm.right_px[0, 0]
     with_head = replace(arm, extra_left_px={"head": (200.0, 40.0)})
     out = match_arm(with_head, left, right, 1, 920.0, 0.12, floor_px=1.0, given_sigma_px=2.8)
-    s_head = _head_sigma_px(arm, (200.0, 40.0), 37.0)
+    s_head = 37.0 ** 2 / (920.0 * 0.12) * HEAD_SHOULDER_SIGMA_M
     w = np.array([1.0 / s_head ** 2, 1.0 / 2.8 ** 2])
     assert out.disparity_matched[0]
     assert abs(out.left_px[0, 0] - out.right_px[0, 0] - (37.0 * w[0] + 33.0 * w[1]) / w.sum()) < 0.3
@@ -245,7 +213,7 @@ def test_match_arm_takes_the_heads_match_for_a_flat_shoulder():
 def test_a_flat_hood_is_matched_by_the_heads_outline_with_a_wider_patch(monkeypatch):
     """A far diver's hood is flat at 0.12 m (murky water): the 0.2 m patch holds its outline and matches."""
     from dip3d_vehicle.perception import joint_stereo
-    from dip3d_vehicle.perception.joint_stereo import match_arm
+    from dip3d_vehicle.perception.joint_stereo import HEAD_SHOULDER_SIGMA_M, match_arm
 
     left, right = _pair(37)
     left[70:131, 160:241] = 90                                 # the shoulder's patch: flat wetsuit
@@ -259,7 +227,7 @@ def test_a_flat_hood_is_matched_by_the_heads_outline_with_a_wider_patch(monkeypa
     assert not out.disparity_matched[0]                        # the hood alone: no match, the shoulder as given
     monkeypatch.undo()
     out = match_arm(arm, left, right, 1, 920.0, 0.12, floor_px=1.0, given_sigma_px=2.8)
-    s_head = _head_sigma_px(arm, (200.0, 40.0), 37.0)
+    s_head = 37.0 ** 2 / (920.0 * 0.12) * HEAD_SHOULDER_SIGMA_M
     w = np.array([1.0 / s_head ** 2, 1.0 / 2.8 ** 2])
     assert out.disparity_matched[0]
     assert abs(out.left_px[0, 0] - out.right_px[0, 0] - (37.0 * w[0] + 33.0 * w[1]) / w.sum()) < 0.3

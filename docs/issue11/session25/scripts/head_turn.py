@@ -4,8 +4,9 @@
 
 For every draw whose head matched (``joint_stereo._head_disparity``): the truth shoulder joint's depth
 minus the head match's (metres), grouped by sin(turn) from the shoulder's image offset across the head
-(``head_shoulder_sigma_m``'s reading), with the fixed sigma (``HEAD_SHOULDER_SIGMA_M``) and the turn's
-sigma (``head_shoulder_sigma_m``) and the share of draws each puts beyond 3 sigma.
+(0.19 m x cos(turn) at the head's depth for an upright torso), with the fixed sigma
+(``HEAD_SHOULDER_SIGMA_M``) and the turn's sigma tried in session 25 (``turn_sigma_m``; reverted, see
+the README) and the share of draws each puts beyond 3 sigma.
 """
 from __future__ import annotations
 
@@ -20,6 +21,19 @@ import numpy as np
 from draws import arm_draws
 
 FAMILIES = ("line_of_sight", "far", "undetectable", "elbow", "far_diver")
+TURN_M, FRONT_M, ABOVE_M = 0.14, 0.04, 0.1
+"""The session's turn model: side-on offset, facing-the-camera sigma, and how far above the shoulder the head
+must be for the turn to be read (metres)."""
+
+
+def turn_sigma_m(shoulder_px: np.ndarray, head_px: np.ndarray, depth_m: float, focal_px: float,
+                 fixed_m: float) -> float:
+    """Return the shoulder's depth sigma about the head's match from the torso's turn (metres; ``fixed_m`` when unread)."""
+    dx_m, dy_m = (np.asarray(shoulder_px, float) - np.asarray(head_px, float)) * depth_m / focal_px
+    if not dy_m >= ABOVE_M:
+        return fixed_m
+    cos_turn = min(abs(float(dx_m)) / 0.19, 1.0)
+    return math.hypot(TURN_M * math.sqrt(1.0 - cos_turn ** 2), FRONT_M)
 
 
 def main() -> None:
@@ -41,7 +55,7 @@ def main() -> None:
                 head_px = np.asarray(arm.extra_left_px["head"], float)
                 dx_m = abs(arm.left_px[0, 0] - head_px[0]) * depth / rig.focal_px
                 sin_turn = math.sqrt(1.0 - min(dx_m / 0.19, 1.0) ** 2)
-                sigma = js.head_shoulder_sigma_m(arm.left_px[0], head_px, depth, rig.focal_px)
+                sigma = turn_sigma_m(arm.left_px[0], head_px, depth, rig.focal_px, js.HEAD_SHOULDER_SIGMA_M)
                 rows.append((joints["shoulder"][2] - depth, sin_turn, sigma))
             a = np.array(rows)
             off = a[:, 0]
