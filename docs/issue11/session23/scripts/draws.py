@@ -2,7 +2,9 @@
 from __future__ import annotations
 
 import sys
+import tempfile
 from collections.abc import Iterator
+from pathlib import Path
 
 import numpy as np
 
@@ -52,3 +54,17 @@ def arm_draws(tmp, family: str, n: int, seed0: int, sigma_px: float, profile: st
         for _, kp, joints in draws(scene, seed0, k, sigma_px):
             pose.provide(kp)
             yield k, rig, left, right, pose.estimate(left, right, rig), joints
+
+
+FAMILIES = ("line_of_sight", "far", "undetectable", "elbow", "far_diver")
+"""The open-set families, in the order the analysis scripts report them."""
+
+
+def family_arm_draws(argv: list[str] | None = None):
+    """Yield (family, its ``arm_draws``) for every family, from ``SEED0 [N_SCENES] [NOISE_PX]`` (20 scenes, 2 px)."""
+    a = sys.argv[1:] if argv is None else argv
+    seed0, n = int(a[0]), int(a[1]) if len(a) > 1 else 20
+    noise = float(a[2]) if len(a) > 2 else 2.0
+    with tempfile.TemporaryDirectory() as tmp:
+        for family in FAMILIES:
+            yield family, arm_draws(Path(tmp), family, n, seed0, noise)

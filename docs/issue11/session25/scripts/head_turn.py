@@ -10,17 +10,12 @@ the README) and the share of draws each puts beyond 3 sigma.
 """
 from __future__ import annotations
 
-import collections
 import math
-import sys
-import tempfile
-from pathlib import Path
 
 import numpy as np
 
-from draws import arm_draws
+from draws import family_arm_draws
 
-FAMILIES = ("line_of_sight", "far", "undetectable", "elbow", "far_diver")
 TURN_M, FRONT_M, ABOVE_M = 0.14, 0.04, 0.1
 """The session's turn model: side-on offset, facing-the-camera sigma, and how far above the shoulder the head
 must be for the turn to be read (metres)."""
@@ -39,35 +34,31 @@ def turn_sigma_m(shoulder_px: np.ndarray, head_px: np.ndarray, depth_m: float, f
 def main() -> None:
     """Print one block per family."""
     from dip3d_vehicle.perception import joint_stereo as js
-    seed0 = int(sys.argv[1])
-    n = int(sys.argv[2]) if len(sys.argv) > 2 else 20
-    noise = float(sys.argv[3]) if len(sys.argv) > 3 else 2.0
-    with tempfile.TemporaryDirectory() as tmp:
-        for family in FAMILIES:
-            rows = []
-            for _, rig, left, right, arm, joints in arm_draws(Path(tmp), family, n, seed0, noise):
-                fb = rig.focal_px * rig.baseline_m
-                body = float(np.median(arm.left_px[:, 0] - arm.right_px[:, 0]))
-                head = js._head_disparity(arm, left, right, body, rig.disparity_sign, rig.focal_px, rig.baseline_m)
-                if head is None:
-                    continue
-                depth = fb / abs(head[0])
-                head_px = np.asarray(arm.extra_left_px["head"], float)
-                dx_m = abs(arm.left_px[0, 0] - head_px[0]) * depth / rig.focal_px
-                sin_turn = math.sqrt(1.0 - min(dx_m / 0.19, 1.0) ** 2)
-                sigma = turn_sigma_m(arm.left_px[0], head_px, depth, rig.focal_px, js.HEAD_SHOULDER_SIGMA_M)
-                rows.append((joints["shoulder"][2] - depth, sin_turn, sigma))
-            a = np.array(rows)
-            off = a[:, 0]
-            print(f"{family}: {len(a)} draws with the head matched; beyond 3 sigma: fixed "
-                  f"{np.mean(abs(off) > 3 * js.HEAD_SHOULDER_SIGMA_M) * 100:.1f} %, turn "
-                  f"{np.mean(abs(off) > 3 * a[:, 2]) * 100:.1f} %")
-            for lo, hi in ((0.0, 0.5), (0.5, 0.85), (0.85, 1.01)):
-                m = (a[:, 1] >= lo) & (a[:, 1] < hi)
-                if m.any():
-                    print(f"    sin(turn) {lo:.2f}-{hi:.2f}: {m.sum():3d} draws, shoulder - head match median "
-                          f"{np.median(off[m]):+.3f} m, |.| p90 {np.percentile(abs(off[m]), 90):.3f} m; "
-                          f"turn sigma median {np.median(a[m, 2]):.3f} m", flush=True)
+    for family, family_draws in family_arm_draws():
+        rows = []
+        for _, rig, left, right, arm, joints in family_draws:
+            fb = rig.focal_px * rig.baseline_m
+            body = float(np.median(arm.left_px[:, 0] - arm.right_px[:, 0]))
+            head = js._head_disparity(arm, left, right, body, rig.disparity_sign, rig.focal_px, rig.baseline_m)
+            if head is None:
+                continue
+            depth = fb / abs(head[0])
+            head_px = np.asarray(arm.extra_left_px["head"], float)
+            dx_m = abs(arm.left_px[0, 0] - head_px[0]) * depth / rig.focal_px
+            sin_turn = math.sqrt(1.0 - min(dx_m / 0.19, 1.0) ** 2)
+            sigma = turn_sigma_m(arm.left_px[0], head_px, depth, rig.focal_px, js.HEAD_SHOULDER_SIGMA_M)
+            rows.append((joints["shoulder"][2] - depth, sin_turn, sigma))
+        a = np.array(rows)
+        off = a[:, 0]
+        print(f"{family}: {len(a)} draws with the head matched; beyond 3 sigma: fixed "
+              f"{np.mean(abs(off) > 3 * js.HEAD_SHOULDER_SIGMA_M) * 100:.1f} %, turn "
+              f"{np.mean(abs(off) > 3 * a[:, 2]) * 100:.1f} %")
+        for lo, hi in ((0.0, 0.5), (0.5, 0.85), (0.85, 1.01)):
+            m = (a[:, 1] >= lo) & (a[:, 1] < hi)
+            if m.any():
+                print(f"    sin(turn) {lo:.2f}-{hi:.2f}: {m.sum():3d} draws, shoulder - head match median "
+                      f"{np.median(off[m]):+.3f} m, |.| p90 {np.percentile(abs(off[m]), 90):.3f} m; "
+                      f"turn sigma median {np.median(a[m, 2]):.3f} m", flush=True)
 
 
 if __name__ == "__main__":

@@ -4,39 +4,30 @@
 
 A calibrated sigma gives |error| / sigma of median ~0.67 and p90 ~1.64.
 """
-import sys
-import tempfile
-from pathlib import Path
 
 import numpy as np
 
-from draws import arm_draws
-
-FAMILIES = ("line_of_sight", "far", "undetectable", "elbow", "far_diver")
+from draws import family_arm_draws
 
 
 def main() -> None:
     """Print one line per family."""
     from dip3d_vehicle.perception import joint_stereo as js
-    seed0 = int(sys.argv[1])
-    n = int(sys.argv[2]) if len(sys.argv) > 2 else 20
-    noise = float(sys.argv[3]) if len(sys.argv) > 3 else 2.0
-    with tempfile.TemporaryDirectory() as tmp:
-        for family in FAMILIES:
-            rows = []
-            for _, rig, left, right, arm, joints in arm_draws(Path(tmp), family, n, seed0, noise):
-                fb = rig.focal_px * rig.baseline_m
-                body = float(np.median(arm.left_px[:, 0] - arm.right_px[:, 0]))
-                found = js.joint_disparities(left, right, arm.left_px, body, rig.disparity_sign, rig.focal_px,
-                                             rig.baseline_m, patch_m=0.06)
-                if found.matched[2]:
-                    rows.append((abs(found.disparity_px[2] - fb / joints["wrist"][2]), found.sigma_px[2]))
-            a = np.array(rows)
-            z = a[:, 0] / np.maximum(a[:, 1], 1.0)
-            print(f"{family:14s} {len(a)} matched wrists: |error| median {np.median(a[:, 0]):.2f} p90 "
-                  f"{np.percentile(a[:, 0], 90):.2f} px; stated sigma median {np.median(a[:, 1]):.2f} p90 "
-                  f"{np.percentile(a[:, 1], 90):.2f} px; |error| / max(sigma, 1 px floor) median {np.median(z):.2f} "
-                  f"p90 {np.percentile(z, 90):.2f}", flush=True)
+    for family, family_draws in family_arm_draws():
+        rows = []
+        for _, rig, left, right, arm, joints in family_draws:
+            fb = rig.focal_px * rig.baseline_m
+            body = float(np.median(arm.left_px[:, 0] - arm.right_px[:, 0]))
+            found = js.joint_disparities(left, right, arm.left_px, body, rig.disparity_sign, rig.focal_px,
+                                         rig.baseline_m, patch_m=0.06)
+            if found.matched[2]:
+                rows.append((abs(found.disparity_px[2] - fb / joints["wrist"][2]), found.sigma_px[2]))
+        a = np.array(rows)
+        z = a[:, 0] / np.maximum(a[:, 1], 1.0)
+        print(f"{family:14s} {len(a)} matched wrists: |error| median {np.median(a[:, 0]):.2f} p90 "
+              f"{np.percentile(a[:, 0], 90):.2f} px; stated sigma median {np.median(a[:, 1]):.2f} p90 "
+              f"{np.percentile(a[:, 1], 90):.2f} px; |error| / max(sigma, 1 px floor) median {np.median(z):.2f} "
+              f"p90 {np.percentile(z, 90):.2f}", flush=True)
 
 
 if __name__ == "__main__":
