@@ -102,6 +102,8 @@ class BehaviourConfig:
     close_in_clearance_m: float = 0.5
     close_in_min_step_m: float = 0.3
     close_in_max_descent_m: float = 0.0
+    close_in_weak_one_look: float = 0.6
+    close_in_weak_range_m: float = 2.5
     shake_yaw_rate_rad_s: float = 0.35
     shake_swing_s: float = 0.4
     stop_gesture: bool = True

@@ -152,7 +152,9 @@ class SelectTarget(_ArmWatch):
     ``ambiguous`` round trip through confirm_point while the diver keeps pointing the same way.
     A winning object -> ``winner``; "nothing detected" winning -> ``nothing_there``; no clear
     winner within ``behaviour.select_timeout_s``: the diver farther than ``behaviour.decide_max_range_m``
-    -> ``close_in`` (while tries are left and a safe advance exists); two objects close ->
+    -> ``close_in`` (while tries are left and a safe advance exists); a winner that is weak counted as
+    one look with the diver farther than ``behaviour.close_in_weak_range_m`` -> ``close_in`` first
+    (``weak_close_in_step``); two objects close ->
     ``second_look`` (while tries are left and a step separates them); else ``ambiguous``.
     """
 
@@ -187,6 +189,10 @@ class SelectTarget(_ArmWatch):
         if decision.kind == "undecided":
             return None
         _tell_decision(bb, decision)
+        advance = self.weak_close_in_step(bb, decision)
+        if advance is not None:
+            bb.close_in_step = advance
+            return "close_in"
         bb.decided.append(decision.record(bb.now_s))
         if decision.kind == "none":
             return "nothing_there"
@@ -220,22 +226,39 @@ class SelectTarget(_ArmWatch):
         bb.say(f"ambiguous: {decision.reason}", "notice", pilot=True)
         return "ambiguous"
 
-    def close_in_step(self, bb: Blackboard) -> CloseInStep | None:
-        """Return the advance toward a diver beyond ``behaviour.decide_max_range_m``, or None (near, no tries left, unsafe)."""
+    def close_in_step(self, bb: Blackboard, beyond_m: float | None = None) -> CloseInStep | None:
+        """Return the advance toward a diver farther than ``beyond_m`` (metres; default
+        ``behaviour.decide_max_range_m``), ending no nearer than it, or None (near, no tries left, unsafe)."""
         c, arm3d = bb.config, self.last_arm3d
+        beyond_m = c.decide_max_range_m if beyond_m is None else beyond_m
         if arm3d is None or bb.close_ins >= c.close_in_max_tries or bb.fusion is None:
             return None
         rng = horizontal_range_m(arm3d.xyz_m[0])
-        if rng <= c.decide_max_range_m:
+        if rng <= beyond_m:
             return None
         keep = [h.xyz_m for h in bb.fusion.hypotheses]
-        step = plan_close_in(arm3d.xyz_m[[0, 2]], np.reshape(keep, (-1, 3)), c.decide_max_range_m,
+        step = plan_close_in(arm3d.xyz_m[[0, 2]], np.reshape(keep, (-1, 3)), beyond_m,
                              c.close_in_standoff_m, c.close_in_clearance_m, bb.servo.focal_px,
                              bb.servo.principal_point_px, c.second_look_margin_px, c.close_in_min_step_m,
                              max_descent_m=c.close_in_max_descent_m)
         if step is None:
-            bb.say(f"diver {rng:.1f} m away (> {c.decide_max_range_m:g} m), but no advance keeps every candidate "
-                   f"in view and clear")
+            bb.say(f"diver {rng:.1f} m away (> {beyond_m:g} m), but no advance keeps every candidate in view and clear")
+        return step
+
+    def weak_close_in_step(self, bb: Blackboard, decision: FusedDecision) -> CloseInStep | None:
+        """Return the advance to make before acting on a weak object decision at range, or None (act on it).
+
+        Weak: its posterior with the frames counted as one is below ``behaviour.close_in_weak_one_look``,
+        with the diver farther than ``behaviour.close_in_weak_range_m``; such a lean rests on the arm's
+        tilt toward the camera, whose stereo error falls with the square of the range.
+        """
+        c = bb.config
+        if decision.kind != "object" or decision.one_look is None or decision.one_look >= c.close_in_weak_one_look:
+            return None
+        step = self.close_in_step(bb, c.close_in_weak_range_m)
+        if step is not None:
+            bb.say(f"{decision.best} only {decision.one_look:.2f} counted as one look "
+                   f"(< {c.close_in_weak_one_look:g}): closer before deciding", "notice", pilot=True)
         return step
 
     def look_step(self, bb: Blackboard, decision: FusedDecision) -> LookStep | None:

@@ -226,3 +226,31 @@ def test_a_steady_lean_of_a_pose_with_its_own_error_is_not_made_certain_by_repet
     assert clear.decide(0.9, 3).kind == "object"
     clear.reset()
     assert not clear.shared_error and clear.frames == []
+
+
+# ----------------------------------------------------------------------------- a weak decision at range
+def test_a_weak_decision_at_range_closes_in_first_and_a_clear_or_near_one_decides(rig):
+    """variant_9_19 seed 2 (issue 11 session 26): a diver at 3.4 m, a lean of ~0.5 counted as one look on
+    the wrong placard; closing in first to 2.5 m let the point decide the pointed one."""
+    weak = dict(scores=(0.58, 0.2), none_p=0.2)
+    m = _close_inengaged_mission(rig, **{"behaviour.select_timeout_s": 30.0})
+    enter(m, "select_target")
+    fired = feed(m, [_frame(shoulder=(-0.5, -0.3, 3.2), **weak)] * 12 + [None])
+    assert "close_in" in fired and "winner" not in fired and m.state == "close_in"
+    assert m.bb.decision.kind == "object" and m.bb.decision.one_look < 0.6
+    step = m.bb.close_in_step
+    assert step.range_before_m > 2.5 and step.range_after_m >= 2.5 - 1e-9
+    assert any(isinstance(o, StatusText) and "closer before deciding" in o.text for o in m.bb.outbox)
+    trig, _ = move_until_trigger(m, _frame(shoulder=(-0.5, -0.3, 3.2), **weak), 2000)
+    assert trig == "closer" and m.state == "select_target"
+    fired = feed(m, [_frame(shoulder=(-0.4, -0.3, 2.6), **weak)] * 12 + [None], t0=m.bb.now_s)
+    assert "winner" in fired  # tries used up: the same lean now decides
+    for shoulder, over in (((-0.4, -0.3, 2.2), {}), ((-0.5, -0.3, 3.2), {"behaviour.close_in_weak_one_look": 0.0})):
+        m = _close_inengaged_mission(rig, **{"behaviour.select_timeout_s": 30.0, **over})
+        enter(m, "select_target")
+        fired = feed(m, [_frame(shoulder=shoulder, **weak)] * 12 + [None])
+        assert "winner" in fired and "close_in" not in fired  # near, or the rule off: decided as before
+    m = _close_inengaged_mission(rig, **{"behaviour.select_timeout_s": 30.0})
+    enter(m, "select_target")
+    fired = feed(m, [_frame(shoulder=(-0.5, -0.3, 3.2), scores=(0.8, 0.05), none_p=0.1)] * 12 + [None])
+    assert "winner" in fired and "close_in" not in fired  # clear counted as one: decided at once
