@@ -95,7 +95,7 @@ class BehaviourConfig:
     second_look_settle_s: float = 1.0
     second_look_min_p: float = 0.15
     second_look_margin_px: float = 80.0
-    decide_max_range_m: float = 3.5
+    decide_max_range_m: float = 2.5
     close_in_max_tries: int = 1
     close_in_speed_m_s: float = 0.15
     close_in_standoff_m: float = 2.0
@@ -103,7 +103,6 @@ class BehaviourConfig:
     close_in_min_step_m: float = 0.3
     close_in_max_descent_m: float = 0.0
     close_in_weak_one_look: float = 0.6
-    close_in_weak_range_m: float = 2.5
     shake_yaw_rate_rad_s: float = 0.35
     shake_swing_s: float = 0.4
     stop_gesture: bool = True

@@ -153,7 +153,7 @@ class SelectTarget(_ArmWatch):
     A winning object -> ``winner``; "nothing detected" winning -> ``nothing_there``; no clear
     winner within ``behaviour.select_timeout_s``: the diver farther than ``behaviour.decide_max_range_m``
     -> ``close_in`` (while tries are left and a safe advance exists); a winner that is weak counted as
-    one look with the diver farther than ``behaviour.close_in_weak_range_m`` -> ``close_in`` first
+    one look with the diver farther than ``behaviour.decide_max_range_m`` -> ``close_in`` first
     (``weak_close_in_step``); two objects close ->
     ``second_look`` (while tries are left and a step separates them); else ``ambiguous``.
     """
@@ -226,36 +226,35 @@ class SelectTarget(_ArmWatch):
         bb.say(f"ambiguous: {decision.reason}", "notice", pilot=True)
         return "ambiguous"
 
-    def close_in_step(self, bb: Blackboard, beyond_m: float | None = None) -> CloseInStep | None:
-        """Return the advance toward a diver farther than ``beyond_m`` (metres; default
-        ``behaviour.decide_max_range_m``), ending no nearer than it, or None (near, no tries left, unsafe)."""
+    def close_in_step(self, bb: Blackboard) -> CloseInStep | None:
+        """Return the advance toward a diver beyond ``behaviour.decide_max_range_m``, or None (near, no tries left, unsafe)."""
         c, arm3d = bb.config, self.last_arm3d
-        beyond_m = c.decide_max_range_m if beyond_m is None else beyond_m
         if arm3d is None or bb.close_ins >= c.close_in_max_tries or bb.fusion is None:
             return None
         rng = horizontal_range_m(arm3d.xyz_m[0])
-        if rng <= beyond_m:
+        if rng <= c.decide_max_range_m:
             return None
         keep = [h.xyz_m for h in bb.fusion.hypotheses]
-        step = plan_close_in(arm3d.xyz_m[[0, 2]], np.reshape(keep, (-1, 3)), beyond_m,
+        step = plan_close_in(arm3d.xyz_m[[0, 2]], np.reshape(keep, (-1, 3)), c.decide_max_range_m,
                              c.close_in_standoff_m, c.close_in_clearance_m, bb.servo.focal_px,
                              bb.servo.principal_point_px, c.second_look_margin_px, c.close_in_min_step_m,
                              max_descent_m=c.close_in_max_descent_m)
         if step is None:
-            bb.say(f"diver {rng:.1f} m away (> {beyond_m:g} m), but no advance keeps every candidate in view and clear")
+            bb.say(f"diver {rng:.1f} m away (> {c.decide_max_range_m:g} m), but no advance keeps every candidate "
+                   f"in view and clear")
         return step
 
     def weak_close_in_step(self, bb: Blackboard, decision: FusedDecision) -> CloseInStep | None:
         """Return the advance to make before acting on a weak object decision at range, or None (act on it).
 
         Weak: its posterior with the frames counted as one is below ``behaviour.close_in_weak_one_look``,
-        with the diver farther than ``behaviour.close_in_weak_range_m``; such a lean rests on the arm's
+        with the diver farther than ``behaviour.decide_max_range_m``; such a lean rests on the arm's
         tilt toward the camera, whose stereo error falls with the square of the range.
         """
         c = bb.config
         if decision.kind != "object" or decision.one_look is None or decision.one_look >= c.close_in_weak_one_look:
             return None
-        step = self.close_in_step(bb, c.close_in_weak_range_m)
+        step = self.close_in_step(bb)
         if step is not None:
             bb.say(f"{decision.best} only {decision.one_look:.2f} counted as one look "
                    f"(< {c.close_in_weak_one_look:g}): closer before deciding", "notice", pilot=True)

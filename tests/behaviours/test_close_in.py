@@ -181,7 +181,7 @@ def test_closing_in_below_commands_heave_with_the_advance_at_the_close_in_speed(
 def test_a_near_diver_or_no_tries_never_closes_in(rig):
     m = _close_inengaged_mission(rig)
     enter(m, "select_target")
-    fired = feed(m, [_frame(shoulder=(-0.5, -0.3, 3.0))] * 5 + [None])
+    fired = feed(m, [_frame(shoulder=(-0.5, -0.3, 2.3))] * 5 + [None])
     assert "close_in" not in fired and m.bb.close_ins == 0
     m = _close_inengaged_mission(rig, **{"behaviour.close_in_max_tries": 0})
     enter(m, "select_target")
@@ -231,7 +231,8 @@ def test_a_steady_lean_of_a_pose_with_its_own_error_is_not_made_certain_by_repet
 # ----------------------------------------------------------------------------- a weak decision at range
 def test_a_weak_decision_at_range_closes_in_first_and_a_clear_or_near_one_decides(rig):
     """variant_9_19 seed 2 (issue 11 session 26): a diver at 3.4 m, a lean of ~0.5 counted as one look on
-    the wrong placard; closing in first to 2.5 m let the point decide the pointed one."""
+    the wrong placard; closing in first to 2.5 m (``behaviour.decide_max_range_m``) let the point decide the
+    pointed one."""
     weak = dict(scores=(0.58, 0.2), none_p=0.2)
     m = _close_inengaged_mission(rig, **{"behaviour.select_timeout_s": 30.0})
     enter(m, "select_target")
