@@ -24,3 +24,20 @@ def test_the_stop_gesture_holds_the_vehicle_within_half_a_second():
     assert row["visible_from_s"] is not None and row["stopped_at_s"] is not None, row
     assert row["last_motion_after_due_s"] <= 0.5 and row["motion_after_stopped"] == 0
     assert row["neutral_after_due"] and row["states"][-1] == "stopped"
+
+
+@pytest.mark.slow
+def test_a_diver_at_3_4_m_leaning_weakly_is_closed_in_on_before_the_vehicle_decides(tmp_path):
+    """variant_9_19 (issue 11 session 26): the diver at 3.4 m, the arm's tilt deciding between two placards.
+
+    With ``behaviour.decide_max_range_m`` 3.5 m and no close-in for a weak decision, seed 0 gave up undecided
+    and seed 2 first drove toward placard 2 (one look 0.504) before it came back to the pointed placard 3.
+    """
+    from sitl.point_campaign import mission_trial
+    from sitl.variants import write_variants
+    path = write_variants(tmp_path, 20, 9, ["clear", "murky"], 15.0)[19]
+    for seed in (0, 2):
+        row = mission_trial((str(path), seed, {}))
+        assert row["outcome"] == "arrived" and row["chosen_id"] == row["target_id"] == 3, row
+        assert "close_in" in row["states"] and len(row["decisions"]) == 1, row
+        assert row["states"].index("close_in") < row["states"].index("acknowledge"), row
