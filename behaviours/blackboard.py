@@ -103,6 +103,7 @@ class BehaviourConfig:
     close_in_min_step_m: float = 0.3
     close_in_max_descent_m: float = 0.0
     close_in_weak_one_look: float = 0.6
+    close_in_weak_min_error_cut: float = 0.33
     shake_yaw_rate_rad_s: float = 0.35
     shake_swing_s: float = 0.4
     stop_gesture: bool = True

@@ -249,15 +249,22 @@ class SelectTarget(_ArmWatch):
 
         Weak: its posterior with the frames counted as one is below ``behaviour.close_in_weak_one_look``,
         with the diver farther than ``behaviour.decide_max_range_m``; such a lean rests on the arm's
-        tilt toward the camera, whose stereo error falls with the square of the range.
+        tilt toward the camera, whose stereo error falls with the square of the range. An advance that
+        cuts that error by less than ``behaviour.close_in_weak_min_error_cut`` is not worth the delay.
         """
         c = bb.config
         if decision.kind != "object" or decision.one_look is None or decision.one_look >= c.close_in_weak_one_look:
             return None
         step = self.close_in_step(bb)
-        if step is not None:
-            bb.say(f"{decision.best} only {decision.one_look:.2f} counted as one look "
-                   f"(< {c.close_in_weak_one_look:g}): closer before deciding", "notice", pilot=True)
+        if step is None:
+            return None
+        cut = 1.0 - (step.range_after_m / max(step.range_before_m, 1e-9)) ** 2
+        if cut < c.close_in_weak_min_error_cut:
+            bb.say(f"{decision.best} only {decision.one_look:.2f} counted as one look, but closing in "
+                   f"{step.distance_m:.2f} m would cut the arm's depth error by {cut:.0%} only: deciding")
+            return None
+        bb.say(f"{decision.best} only {decision.one_look:.2f} counted as one look "
+               f"(< {c.close_in_weak_one_look:g}): closer before deciding", "notice", pilot=True)
         return step
 
     def look_step(self, bb: Blackboard, decision: FusedDecision) -> LookStep | None:

@@ -255,3 +255,19 @@ def test_a_weak_decision_at_range_closes_in_first_and_a_clear_or_near_one_decide
     enter(m, "select_target")
     fired = feed(m, [_frame(shoulder=(-0.5, -0.3, 3.2), scores=(0.8, 0.05), none_p=0.1)] * 12 + [None])
     assert "winner" in fired and "close_in" not in fired  # clear counted as one: decided at once
+
+
+def test_a_weak_decision_is_not_delayed_for_an_advance_too_short_to_settle_the_tilt(rig):
+    """At 5 m with a placard 1.3 m ahead the safe advance is 0.45 m (range 5.1 -> 4.65 m): the arm's depth
+    error falls by 17 %, under ``behaviour.close_in_weak_min_error_cut`` (far_diver: with BlazePose, seed 9
+    lost its arrival after such an advance). With the cut allowed down to 0.1 it closes in."""
+    weak = dict(scores=(0.58, 0.2, 0.05), none_p=0.17)
+    for cut, expected in ((0.33, "winner"), (0.1, "close_in")):
+        m = _close_inengaged_mission(rig, **{"behaviour.select_timeout_s": 30.0,
+                                             "behaviour.close_in_weak_min_error_cut": cut})
+        enter(m, "select_target")
+        fired = feed(m, [_frame(**weak)] * 12 + [None])
+        other = ({"winner", "close_in"} - {expected}).pop()
+        assert expected in fired and other not in fired
+        assert m.bb.decision.one_look < 0.6
+    assert any(isinstance(o, StatusText) and "closer before deciding" in o.text for o in m.bb.outbox)
