@@ -4,6 +4,7 @@ from __future__ import annotations
 import sys
 import tempfile
 from collections.abc import Iterator
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -43,17 +44,43 @@ def scene_args(argv: list[str] | None = None) -> tuple[str, int, int, float, int
             list(a[5:]))
 
 
-def arm_draws(tmp, family: str, n: int, seed0: int, sigma_px: float, profile: str = "default"):
-    """Yield (scene index, rig, left, right, the pose's arm, truth joints) for every draw of a family's first n scenes.
+@dataclass(frozen=True)
+class ArmDraw:
+    """One noisy draw of a family scene: the rig, the rectified pair, the pose's arm and the truth joints.
 
-    The arm is the pose source's (keypoints as drawn, rectified px) before any row matching; the images are
-    the rectified pair; ``tmp`` is a folder for the scenes' files.
+    The arm is the pose source's (keypoints as drawn, rectified px) before any row matching.
     """
+
+    scene: int
+    rig: object
+    left: np.ndarray
+    right: np.ndarray
+    arm: object
+    joints: dict
+
+    @property
+    def fb(self) -> float:
+        """Return focal length x baseline (px m): depth = fb / disparity."""
+        return self.rig.focal_px * self.rig.baseline_m
+
+    @property
+    def given_px(self) -> np.ndarray:
+        """Return the drawn keypoints' own disparities x_left - x_right (px) per joint."""
+        return self.arm.left_px[:, 0] - self.arm.right_px[:, 0]
+
+    @property
+    def body_px(self) -> float:
+        """Return the body's disparity as ``joint_stereo.match_arm`` takes it: the keypoints' median (px)."""
+        return float(np.median(self.given_px))
+
+
+def arm_draws(tmp, family: str, n: int, seed0: int, sigma_px: float, profile: str = "default") -> Iterator[ArmDraw]:
+    """Yield an ``ArmDraw`` for every draw of a family's first n scenes (``tmp``: a folder for the scenes' files)."""
     for k, scene in enumerate(sf.scenes(tmp, family, n, seed0)):
         rig, left, right, pose, _, _, _ = sf.prepared(scene, profile)
         for _, kp, joints in draws(scene, seed0, k, sigma_px):
             pose.provide(kp)
-            yield k, rig, left, right, pose.estimate(left, right, rig), joints
+            yield ArmDraw(k, rig, left, right, pose.estimate(left, right, rig), joints)
 
 
 FAMILIES = ("line_of_sight", "far", "undetectable", "elbow", "far_diver")

@@ -36,13 +36,12 @@ def main() -> None:
     from dip3d_vehicle.perception import joint_stereo as js
     for family, family_draws in family_arm_draws():
         rows = []
-        for _, rig, left, right, arm, joints in family_draws:
-            fb = rig.focal_px * rig.baseline_m
-            body = float(np.median(arm.left_px[:, 0] - arm.right_px[:, 0]))
-            head = js._head_disparity(arm, left, right, body, rig.disparity_sign, rig.focal_px, rig.baseline_m)
+        for d in family_draws:
+            rig, arm, joints = d.rig, d.arm, d.joints
+            head = js._head_disparity(arm, d.left, d.right, d.body_px, rig.disparity_sign, rig.focal_px, rig.baseline_m)
             if head is None:
                 continue
-            depth = fb / abs(head[0])
+            depth = d.fb / abs(head[0])
             head_px = np.asarray(arm.extra_left_px["head"], float)
             dx_m = abs(arm.left_px[0, 0] - head_px[0]) * depth / rig.focal_px
             sin_turn = math.sqrt(1.0 - min(dx_m / 0.19, 1.0) ** 2)

@@ -11,13 +11,11 @@ from dip3d_vehicle.perception import joint_stereo as js
 JOINTS = ("shoulder", "elbow", "wrist")
 for family, family_draws in family_arm_draws():
     rows = {1: [], 2: []}
-    for _, rig, left, right, arm, joints in family_draws:
-        fb = rig.focal_px * rig.baseline_m
-        given = arm.left_px[:, 0] - arm.right_px[:, 0]
-        truth = np.array([fb / joints[j][2] for j in JOINTS])
-        body = float(np.median(given))
-        a, b = (js.joint_disparities(left, right, arm.left_px, body, rig.disparity_sign, rig.focal_px,
-                                     rig.baseline_m, patch_m=p) for p in (0.06, 0.12))
+    for d in family_draws:
+        given = d.given_px
+        truth = np.array([d.fb / d.joints[j][2] for j in JOINTS])
+        a, b = (js.joint_disparities(d.left, d.right, d.arm.left_px, d.body_px, d.rig.disparity_sign, d.rig.focal_px,
+                                     d.rig.baseline_m, patch_m=p) for p in (0.06, 0.12))
         for j in (1, 2):
             rows[j].append((a.matched[j], a.disparity_px[j] - truth[j], b.matched[j], b.disparity_px[j] - truth[j],
                             b.sigma_px[j], given[j] - truth[j]))

@@ -15,13 +15,11 @@ def main() -> None:
     from dip3d_vehicle.perception import joint_stereo as js
     for family, family_draws in family_arm_draws():
         rows = []
-        for _, rig, left, right, arm, joints in family_draws:
-            fb = rig.focal_px * rig.baseline_m
-            body = float(np.median(arm.left_px[:, 0] - arm.right_px[:, 0]))
-            found = js.joint_disparities(left, right, arm.left_px, body, rig.disparity_sign, rig.focal_px,
-                                         rig.baseline_m, patch_m=0.06)
+        for d in family_draws:
+            found = js.joint_disparities(d.left, d.right, d.arm.left_px, d.body_px, d.rig.disparity_sign,
+                                         d.rig.focal_px, d.rig.baseline_m, patch_m=0.06)
             if found.matched[2]:
-                rows.append((abs(found.disparity_px[2] - fb / joints["wrist"][2]), found.sigma_px[2]))
+                rows.append((abs(found.disparity_px[2] - d.fb / d.joints["wrist"][2]), found.sigma_px[2]))
         a = np.array(rows)
         z = a[:, 0] / np.maximum(a[:, 1], 1.0)
         print(f"{family:14s} {len(a)} matched wrists: |error| median {np.median(a[:, 0]):.2f} p90 "
