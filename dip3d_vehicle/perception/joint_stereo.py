@@ -22,7 +22,7 @@ from .values import ArmKeypoints
 
 __all__ = ["JOINT_FLOOR_FACTOR", "MATCH_GROSS_SIGMAS", "match_arm", "match_joint_disparity", "subpixel_peak",
            "joint_disparities", "JointDisparity", "reach_disparities", "shoulder_disparity", "SHOULDER_WIDTH_M",
-           "ARM_REACH_M", "TORSO_DEPTH_M", "in_front_of_body", "match_point"]
+           "ARM_REACH_M", "TORSO_DEPTH_M", "in_front_of_body", "match_point", "limb_excess_sigmas", "LIMB_SIGMAS"]
 
 
 def _grey(patch: np.ndarray) -> np.ndarray:
@@ -380,8 +380,67 @@ def _matched_on_body(left_xy: np.ndarray, disparity_px: np.ndarray, matched: np.
     return out
 
 
+LIMB_SIGMAS = 3.0
+"""A limb whose matched 3D length lies more than this many sigmas outside its plausible span is impossible."""
+
+
+def limb_excess_sigmas(left_px: np.ndarray, disparity_px: np.ndarray, sigma_px: np.ndarray, focal_px: float,
+                       baseline_m: float, principal_px: tuple[float, float],
+                       limbs_m: tuple[tuple[float, float], tuple[float, float]]) -> np.ndarray:
+    """Return how many sigmas each limb's 3D length (upper arm, forearm) lies outside its span (0 inside).
+
+    The joints (left pixels, disparities x_left - x_right with their sigmas, pixels) are placed at their
+    stereo depths; a limb's length sigma is what its two joints' depth sigmas allow, plus 0.02 m for
+    where the landmarks sit on the joints.
+    """
+    fb = focal_px * baseline_m
+    d = np.maximum(np.abs(np.asarray(disparity_px, float)), 1e-3)
+    z, dz = fb / d, fb / d ** 2 * np.asarray(sigma_px, float)
+    rays = np.c_[(left_px - np.asarray(principal_px)) / focal_px, np.ones(len(d))]
+    out = np.zeros(2)
+    for k, (lo, hi) in enumerate(limbs_m):
+        a, b = rays[k] * z[k], rays[k + 1] * z[k + 1]
+        length = float(np.linalg.norm(b - a))
+        slope = [abs(float((a - b) @ rays[k])), abs(float((b - a) @ rays[k + 1]))]
+        sigma = math.hypot(math.hypot(slope[0] * dz[k], slope[1] * dz[k + 1]) / max(length, 1e-6), 0.02)
+        out[k] = max(lo - length, length - hi, 0.0) / sigma
+    return out
+
+
+def _plausible_matches(arm: ArmKeypoints, matched: np.ndarray, disparity_px: np.ndarray, sigma_px: np.ndarray,
+                       given_px: np.ndarray, given_sigma_px: float, focal_px: float, baseline_m: float,
+                       principal_px: tuple[float, float], limbs_m) -> np.ndarray:
+    """Return ``matched`` without the fewest elbow / wrist matches that make a limb impossible (bool per joint).
+
+    A thin wrist seen in front of a textured object matches that object, not the wrist (a placard 0.3 m
+    behind the wrist: issue 11 session 27, line_of_sight seed 900 scene 15, "nothing detected" at 0.8
+    though the arm pointed 27 deg clear of every other placard). Such a match makes the forearm longer
+    (or shorter) than any adult's by ``LIMB_SIGMAS`` and more, where the given keypoints' own disparity
+    (sigma ``given_sigma_px``) does not: the matches whose removal leaves every limb plausible are
+    dropped (the fewest; among as few, the set leaving the least excess). The shoulder's match is kept.
+    """
+    def excess(drop: tuple[int, ...]) -> np.ndarray:
+        keep = matched.copy()
+        keep[list(drop)] = False
+        disp = np.where(keep, disparity_px, given_px)
+        sig = np.where(keep, sigma_px, given_sigma_px)
+        return limb_excess_sigmas(arm.left_px, disp, sig, focal_px, baseline_m, principal_px, limbs_m)
+
+    if np.all(excess(()) <= LIMB_SIGMAS):
+        return matched
+    options = [drop for drop in ((2,), (1,), (1, 2)) if matched[list(drop)].all()]
+    fine = [(len(drop), float(excess(drop).sum()), drop) for drop in options if np.all(excess(drop) <= LIMB_SIGMAS)]
+    if not fine:
+        return matched
+    out = matched.copy()
+    out[list(min(fine)[2])] = False
+    return out
+
+
 def match_arm(arm: ArmKeypoints, left: np.ndarray, right: np.ndarray, sign: int, focal_px: float,
-              baseline_m: float, floor_px: float, given_sigma_px: float, patch_m: float = 0.06) -> ArmKeypoints:
+              baseline_m: float, floor_px: float, given_sigma_px: float, patch_m: float = 0.06,
+              principal_px: tuple[float, float] | None = None,
+              limbs_m: tuple[tuple[float, float], tuple[float, float]] | None = None) -> ArmKeypoints:
     """Return an arm with no disparity sigma of its own, each joint's disparity matched along its row (pixels).
 
     For a pose source that places each image's keypoints independently (a keypoints file, the
@@ -400,8 +459,10 @@ def match_arm(arm: ArmKeypoints, left: np.ndarray, right: np.ndarray, sign: int,
     the shoulder's match). A match
     within ``MATCH_GROSS_SIGMAS`` of the given disparity (sigma ``given_sigma_px``) is combined with
     it by inverse variance: the joint moves to the left joint's row at that disparity, with that
-    sigma; a farther one, or none, leaves the joint as given. The arm is returned unchanged when its
-    keypoints give no positive disparity.
+    sigma; a farther one, or none, leaves the joint as given. Given the principal point and the
+    limbs' plausible lengths (``limbs_m``: upper arm, forearm, metres), matches that make a limb
+    impossible are dropped too (``_plausible_matches``: a wrist matched on the object behind it).
+    The arm is returned unchanged when its keypoints give no positive disparity.
     """
     disparity = arm.left_px[:, 0] - arm.right_px[:, 0]
     body = float(np.median(disparity))
@@ -421,10 +482,13 @@ def match_arm(arm: ArmKeypoints, left: np.ndarray, right: np.ndarray, sign: int,
     matched &= ~_matched_on_body(arm.left_px, found.disparity_px, matched, body_ref, focal_px, baseline_m)
     given = max(float(given_sigma_px), 1e-3)
     m = matched & (np.abs(found.disparity_px - disparity) <= MATCH_GROSS_SIGMAS * np.hypot(match_sigma, given))
-    if not np.any(m):
-        return arm
     w_match, w_given = 1.0 / match_sigma ** 2, 1.0 / given ** 2
     combined = (w_match * found.disparity_px + w_given * disparity) / (w_match + w_given)
+    if principal_px is not None and limbs_m is not None and np.any(m):
+        m = _plausible_matches(arm, m, combined, 1.0 / np.sqrt(w_match + w_given), disparity, given, focal_px,
+                               baseline_m, principal_px, limbs_m)
+    if not np.any(m):
+        return arm
     right_px = np.array(arm.right_px, dtype=float, copy=True)
     right_px[m, 0] = arm.left_px[m, 0] - combined[m]
     right_px[m, 1] = arm.left_px[m, 1]

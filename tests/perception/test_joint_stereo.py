@@ -175,6 +175,36 @@ def test_match_arm_combines_with_the_given_disparity_and_drops_a_gross_match():
     assert abs(out.disparity_sigma_px[0] - 1.0 / np.sqrt(w.sum())) < 0.01        # 0.89 px with a 1 px floor
 
 
+def test_match_arm_drops_a_wrist_matched_on_the_textured_object_behind_it():
+    """A thin wrist in front of a placard: its patch is the placard's, 0.3 m behind, and makes the forearm 0.44 m long.
+
+    The given keypoints' own disparity, 3 px off toward the placard, lets the match pass the gross check.
+    """
+    from dip3d_vehicle.perception.joint_stereo import limb_excess_sigmas, match_arm
+    from dip3d_vehicle.perception.values import ArmKeypoints
+
+    rng = np.random.default_rng(4)
+    left = (rng.random((50, 150, 3)) * 255).astype(np.uint8).repeat(4, 0).repeat(4, 1)     # 200 x 600
+    right = np.zeros_like(left)
+    right[:, :540] = left[:, 60:]                              # the arm at 60 px (1.84 m; 1 m is 500 px)
+    right[70:131, 349:429] = left[70:131, 400:480]             # around the wrist: a placard at 51 px (2.16 m)
+    xy = np.array([[150.0, 100.0], [295.0, 70.0], [440.0, 100.0]])     # upper arm and forearm 0.3 m across
+    arm = ArmKeypoints("right", xy, xy - [[60.0, 0.0], [60.0, 0.0], [57.0, 0.0]], np.ones(3), np.ones(3), "test")
+    limbs, centre = ((0.27, 0.37), (0.22, 0.29)), (300.0, 100.0)
+    kept = match_arm(arm, left, right, 1, 920.0, 0.12, floor_px=0.5, given_sigma_px=2.0)
+    assert kept.disparity_matched.all()                        # 6 px from the given wrist: within 3 sigmas
+    d = kept.left_px[:, 0] - kept.right_px[:, 0]
+    assert abs(d[2] - 51.4) < 0.3                              # 0.3 m behind the wrist
+    assert limb_excess_sigmas(xy, d, kept.disparity_sigma_px, 920.0, 0.12, centre, limbs)[1] > 4
+    out = match_arm(arm, left, right, 1, 920.0, 0.12, 0.5, 2.0, principal_px=centre, limbs_m=limbs)
+    assert out.disparity_matched.tolist() == [True, True, False]
+    assert np.array_equal(out.right_px[2], arm.right_px[2]) and np.isnan(out.disparity_sigma_px[2])
+    plain = np.zeros_like(left)                                # no placard behind the wrist: every match stays
+    plain[:, :540] = left[:, 60:]
+    assert match_arm(arm, left, plain, 1, 920.0, 0.12, 0.5, 2.0, principal_px=centre,
+                     limbs_m=limbs).disparity_matched.all()
+
+
 def test_match_arm_sets_aside_a_foreshortened_joint_matched_on_the_body_behind_it():
     """An arm pointing at the camera: elbow and wrist seen over the body, their patches all body (far_diver, 4.7 m)."""
     from dip3d_vehicle.perception.joint_stereo import match_arm
