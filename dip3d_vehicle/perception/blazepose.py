@@ -27,8 +27,9 @@ from ..models import model_path
 from .blazepose_decode import DETECTOR_SIZE, decode, weighted_nms
 from .blazepose_roi import Roi, crop_matrix, letterbox_matrix, roi_from_points, warp
 from .calibration import StereoRig
-from .joint_stereo import (JointDisparity, in_front_of_body, joint_disparities, match_joint_disparity,
-                           shoulder_disparity, subpixel_peak as _subpixel)
+from .joint_stereo import (JOINT_FLOOR_FACTOR, LIMB_SLACK_M, JointDisparity, in_front_of_body, joint_disparities,
+                           match_joint_disparity, plausible_matches, shoulder_disparity, subpixel_peak as _subpixel,
+                           unmatched_sigma_px)
 from .pointing_arm import AUTO, pointing_arm
 from .pose import ARM_INDICES, PoseEstimator
 from .values import ArmKeypoints
@@ -332,7 +333,8 @@ class BlazePoseEstimator(PoseEstimator):
     def __init__(self, pose: BlazePose, arm: str = "right", tracking: bool = True,
                  stereo_search: str = "roi", max_disparity_px: float = 400.0,
                  joint_disparity: str = "landmarks", concurrent_eyes: bool = False,
-                 disparity_floor_px: float = 1.5, keypoint_sigma_m: float | None = None) -> None:
+                 disparity_floor_px: float = 1.5, keypoint_sigma_m: float | None = None,
+                 limbs_m: tuple[tuple[float, float], tuple[float, float]] | None = None) -> None:
         """Wrap a ``BlazePose``; ``stereo_search`` is "roi" (search along rows) or "detect".
 
         ``arm``: "right", "left", or "auto": in each frame the arm held away from the body
@@ -357,6 +359,9 @@ class BlazePoseEstimator(PoseEstimator):
         ``keypoint_sigma_m``: the landmarks' own error at the body (metres), carried by every arm
         for the selector (``ArmKeypoints.keypoint_sigma_m``).
 
+        ``limbs_m``: the plausible (shortest, longest) upper arm and forearm, metres; with "stereo", an
+        elbow / wrist match that makes a limb impossible is dropped (``joint_stereo.plausible_matches``).
+
         Keypoints are returned whatever their confidence: the pipeline applies
         ``pose.min_confidence`` (and reports ``pose_low_confidence`` rather than ``no_pose``).
         """
@@ -375,6 +380,7 @@ class BlazePoseEstimator(PoseEstimator):
         self.concurrent_eyes = bool(concurrent_eyes)
         self.disparity_floor_px = float(disparity_floor_px)
         self.keypoint_sigma_m = None if keypoint_sigma_m is None else float(keypoint_sigma_m)
+        self.limbs_m = limbs_m
         self._body_disparity_px: float | None = None
         self._side: tuple[PoseLandmarks, str] | None = None   # with "auto": the last left pose's arm
         self.stats = StereoStats()
@@ -390,7 +396,7 @@ class BlazePoseEstimator(PoseEstimator):
                    joint_disparity=params.get("blazepose.joint_disparity", "landmarks"),
                    concurrent_eyes=params.get("blazepose.concurrent_eyes", False),
                    disparity_floor_px=params.get("blazepose.disparity_floor_px", 1.5),
-                   keypoint_sigma_m=params.get("blazepose.keypoint_sigma_m"))
+                   keypoint_sigma_m=params.get("blazepose.keypoint_sigma_m"), limbs_m=_limbs_m(params))
 
     def reset(self) -> None:
         """Forget both cameras' tracking state (and, with ``arm="auto"``, the last frame's arm)."""
@@ -495,6 +501,14 @@ class BlazePoseEstimator(PoseEstimator):
                                  JOINT_PATCH_M)
         disp, sigma, matched = found.disparity_px.copy(), found.sigma_px.copy(), found.matched.copy()
         disp[0], sigma[0], matched[0] = d, sd, False
+        if self.limbs_m is not None and matched.any():
+            fb = rig.focal_px * rig.baseline_m
+            slack = math.hypot(LIMB_SLACK_M, math.sqrt(2.0) * (self.keypoint_sigma_m or 0.0))
+            keep = plausible_matches(xy, matched, disp, np.maximum(sigma, self.disparity_floor_px * JOINT_FLOOR_FACTOR),
+                                     sign * body, unmatched_sigma_px(body, fb), rig.focal_px, rig.baseline_m,
+                                     rig.principal_point_px, self.limbs_m, slack)
+            dropped = matched & ~keep
+            disp[dropped], sigma[dropped], matched = sign * body, unmatched_sigma_px(body, fb), keep
         return JointDisparity(disp, sigma, matched, found.score)
 
     def _both_concurrently(self, left_img: np.ndarray, right_img: np.ndarray, sign: int
@@ -593,6 +607,15 @@ def _eye_pool():
     """Return the shared 1-thread pool of the right eye's concurrent landmark run."""
     from .threads import shared_pool
     return shared_pool("pose-right", 1)
+
+
+def _limbs_m(params: Mapping[str, Any]) -> tuple[tuple[float, float], tuple[float, float]] | None:
+    """Return the plausible upper arm and forearm spans (metres) from ``selection.*``, or None where not given."""
+    keys = ("selection.upperarm_min_m", "selection.upperarm_max_m", "selection.forearm_min_m", "selection.forearm_max_m")
+    if not all(k in params for k in keys):
+        return None
+    lo_u, hi_u, lo_f, hi_f = (float(params[k]) for k in keys)
+    return (lo_u, hi_u), (lo_f, hi_f)
 
 
 def _extra(pose: PoseLandmarks, arm: str, min_visibility: float = 0.5) -> dict:

@@ -22,7 +22,8 @@ from .values import ArmKeypoints
 
 __all__ = ["JOINT_FLOOR_FACTOR", "MATCH_GROSS_SIGMAS", "match_arm", "match_joint_disparity", "subpixel_peak",
            "joint_disparities", "JointDisparity", "reach_disparities", "shoulder_disparity", "SHOULDER_WIDTH_M",
-           "ARM_REACH_M", "TORSO_DEPTH_M", "in_front_of_body", "match_point", "limb_excess_sigmas", "LIMB_SIGMAS"]
+           "ARM_REACH_M", "TORSO_DEPTH_M", "in_front_of_body", "match_point", "limb_excess_sigmas", "LIMB_SIGMAS",
+           "plausible_matches", "unmatched_sigma_px"]
 
 
 def _grey(patch: np.ndarray) -> np.ndarray:
@@ -125,6 +126,12 @@ def reach_disparities(body_disparity_px: float, focal_baseline_px_m: float,
     return focal_baseline_px_m / (depth + reach_m), focal_baseline_px_m / max(depth - reach_m, min_depth_m)
 
 
+def unmatched_sigma_px(body_disparity_px: float, focal_baseline_px_m: float) -> float:
+    """Return the disparity sigma of a joint placed at the body's disparity: a quarter of the arm's reach span, pixels."""
+    d_lo, d_hi = reach_disparities(body_disparity_px, focal_baseline_px_m)
+    return max(0.25 * (d_hi - d_lo), 0.5)
+
+
 def _textured_patch(image: np.ndarray, x: int, y: int, half: int, min_std: float = 2.0) -> np.ndarray | None:
     """Return the grey patch of ``half`` pixels each side of (x, y), or None off the image or flatter than ``min_std``."""
     h, w = image.shape[:2]
@@ -215,7 +222,7 @@ def joint_disparities(left: np.ndarray, right: np.ndarray, left_xy: np.ndarray, 
     half = int(np.clip(round(0.5 * patch_m * focal_px / depth), 4, 24))
     n = len(left_xy)
     disp = np.full(n, float(body_disparity_px))
-    sigma = np.full(n, max(0.25 * (d_hi - d_lo), 0.5))
+    sigma = np.full(n, unmatched_sigma_px(body_disparity_px, focal_px * baseline_m))
     matched = np.zeros(n, bool)
     score = np.full(n, np.nan)
     for k, (xl, yl) in enumerate(np.asarray(left_xy, float)):
@@ -383,15 +390,18 @@ def _matched_on_body(left_xy: np.ndarray, disparity_px: np.ndarray, matched: np.
 LIMB_SIGMAS = 3.0
 """A limb whose matched 3D length lies more than this many sigmas outside its plausible span is impossible."""
 
+LIMB_SLACK_M = 0.02
+"""Spread (metres) of a limb's length from where the keypoints sit on the joints, beyond the depths' own."""
+
 
 def limb_excess_sigmas(left_px: np.ndarray, disparity_px: np.ndarray, sigma_px: np.ndarray, focal_px: float,
                        baseline_m: float, principal_px: tuple[float, float],
-                       limbs_m: tuple[tuple[float, float], tuple[float, float]]) -> np.ndarray:
+                       limbs_m: tuple[tuple[float, float], tuple[float, float]], slack_m: float = LIMB_SLACK_M
+                       ) -> np.ndarray:
     """Return how many sigmas each limb's 3D length (upper arm, forearm) lies outside its span (0 inside).
 
     The joints (left pixels, disparities x_left - x_right with their sigmas, pixels) are placed at their
-    stereo depths; a limb's length sigma is what its two joints' depth sigmas allow, plus 0.02 m for
-    where the landmarks sit on the joints.
+    stereo depths; a limb's length sigma is what its two joints' depth sigmas allow, and ``slack_m``.
     """
     fb = focal_px * baseline_m
     d = np.maximum(np.abs(np.asarray(disparity_px, float)), 1e-3)
@@ -402,29 +412,34 @@ def limb_excess_sigmas(left_px: np.ndarray, disparity_px: np.ndarray, sigma_px: 
         a, b = rays[k] * z[k], rays[k + 1] * z[k + 1]
         length = float(np.linalg.norm(b - a))
         slope = [abs(float((a - b) @ rays[k])), abs(float((b - a) @ rays[k + 1]))]
-        sigma = math.hypot(math.hypot(slope[0] * dz[k], slope[1] * dz[k + 1]) / max(length, 1e-6), 0.02)
+        sigma = math.hypot(math.hypot(slope[0] * dz[k], slope[1] * dz[k + 1]) / max(length, 1e-6), slack_m)
         out[k] = max(lo - length, length - hi, 0.0) / sigma
     return out
 
 
-def _plausible_matches(arm: ArmKeypoints, matched: np.ndarray, disparity_px: np.ndarray, sigma_px: np.ndarray,
-                       given_px: np.ndarray, given_sigma_px: float, focal_px: float, baseline_m: float,
-                       principal_px: tuple[float, float], limbs_m) -> np.ndarray:
+def plausible_matches(left_px: np.ndarray, matched: np.ndarray, disparity_px: np.ndarray, sigma_px: np.ndarray,
+                      fallback_px, fallback_sigma_px, focal_px: float, baseline_m: float,
+                      principal_px: tuple[float, float], limbs_m, slack_m: float = LIMB_SLACK_M) -> np.ndarray:
     """Return ``matched`` without the fewest elbow / wrist matches that make a limb impossible (bool per joint).
+
+    ``disparity_px``, ``sigma_px``: every joint's disparity and sigma as they stand (pixels, matched or not).
 
     A thin wrist seen in front of a textured object matches that object, not the wrist (a placard 0.3 m
     behind the wrist: issue 11 session 27, line_of_sight seed 900 scene 15, "nothing detected" at 0.8
     though the arm pointed 27 deg clear of every other placard). Such a match makes the forearm longer
-    (or shorter) than any adult's by ``LIMB_SIGMAS`` and more, where the given keypoints' own disparity
-    (sigma ``given_sigma_px``) does not: the matches whose removal leaves every limb plausible are
-    dropped (the fewest; among as few, the set leaving the least excess). The shoulder's match is kept.
+    (or shorter) than any adult's by ``LIMB_SIGMAS`` and more (``limb_excess_sigmas``), where the joint's
+    disparity without the match (``fallback_px``, sigma ``fallback_sigma_px``: the given keypoints', or the
+    body's) does not: the matches whose removal leaves every limb plausible are dropped (the fewest; among
+    as few, the set leaving the least excess). The shoulder's match is kept; so is everything when no
+    removal helps.
     """
+    fallback = np.broadcast_to(np.asarray(fallback_px, float), matched.shape)
+    fallback_sigma = np.broadcast_to(np.asarray(fallback_sigma_px, float), matched.shape)
+
     def excess(drop: tuple[int, ...]) -> np.ndarray:
-        keep = matched.copy()
-        keep[list(drop)] = False
-        disp = np.where(keep, disparity_px, given_px)
-        sig = np.where(keep, sigma_px, given_sigma_px)
-        return limb_excess_sigmas(arm.left_px, disp, sig, focal_px, baseline_m, principal_px, limbs_m)
+        disp, sigma = np.array(disparity_px, float), np.array(sigma_px, float)
+        disp[list(drop)], sigma[list(drop)] = fallback[list(drop)], fallback_sigma[list(drop)]
+        return limb_excess_sigmas(left_px, disp, sigma, focal_px, baseline_m, principal_px, limbs_m, slack_m)
 
     if np.all(excess(()) <= LIMB_SIGMAS):
         return matched
@@ -461,7 +476,7 @@ def match_arm(arm: ArmKeypoints, left: np.ndarray, right: np.ndarray, sign: int,
     it by inverse variance: the joint moves to the left joint's row at that disparity, with that
     sigma; a farther one, or none, leaves the joint as given. Given the principal point and the
     limbs' plausible lengths (``limbs_m``: upper arm, forearm, metres), matches that make a limb
-    impossible are dropped too (``_plausible_matches``: a wrist matched on the object behind it).
+    impossible are dropped too (``plausible_matches``: a wrist matched on the object behind it).
     The arm is returned unchanged when its keypoints give no positive disparity.
     """
     disparity = arm.left_px[:, 0] - arm.right_px[:, 0]
@@ -485,8 +500,9 @@ def match_arm(arm: ArmKeypoints, left: np.ndarray, right: np.ndarray, sign: int,
     w_match, w_given = 1.0 / match_sigma ** 2, 1.0 / given ** 2
     combined = (w_match * found.disparity_px + w_given * disparity) / (w_match + w_given)
     if principal_px is not None and limbs_m is not None and np.any(m):
-        m = _plausible_matches(arm, m, combined, 1.0 / np.sqrt(w_match + w_given), disparity, given, focal_px,
-                               baseline_m, principal_px, limbs_m)
+        m = plausible_matches(arm.left_px, m, np.where(m, combined, disparity),
+                              np.where(m, 1.0 / np.sqrt(w_match + w_given), given), disparity, given, focal_px,
+                              baseline_m, principal_px, limbs_m)
     if not np.any(m):
         return arm
     right_px = np.array(arm.right_px, dtype=float, copy=True)

@@ -205,6 +205,27 @@ def test_match_arm_drops_a_wrist_matched_on_the_textured_object_behind_it():
                      limbs_m=limbs).disparity_matched.all()
 
 
+def test_plausible_matches_drops_the_fewest_matches_that_make_a_limb_impossible():
+    """Falling back to the body's disparity (BlazePose's ``stereo``): the wrist's match alone is dropped, or none."""
+    from dip3d_vehicle.perception.joint_stereo import plausible_matches
+
+    xy = np.array([[150.0, 100.0], [295.0, 70.0], [440.0, 100.0]])     # at 60 px: 0.3 m limbs across
+    limbs, centre = ((0.27, 0.37), (0.22, 0.29)), (300.0, 100.0)
+    matched = np.array([False, True, True])          # the shoulder from a torso model: 0.5 px, never dropped
+    sigma = np.array([0.5, 1.0, 0.5])
+
+    def keep(disparity_px):
+        return plausible_matches(xy, matched, np.asarray(disparity_px, float), sigma, 60.0, 4.0, 920.0, 0.12,
+                                 centre, limbs).tolist()
+
+    assert keep([60.0, 60.0, 60.0]) == [False, True, True]             # a plausible arm: every match stays
+    assert keep([60.0, 60.0, 51.0]) == [False, True, False]            # the wrist 0.3 m behind: dropped
+    assert keep([60.0, 48.0, 48.0]) == [False, False, True]            # the elbow 0.46 m behind: the wrist is not
+    loose = plausible_matches(xy, matched, np.array([60.0, 60.0, 51.0]), sigma, 60.0, 4.0, 920.0, 0.12, centre,
+                              limbs, slack_m=0.2)
+    assert loose.tolist() == [False, True, True]                       # a pose model's own slack allows it
+
+
 def test_match_arm_sets_aside_a_foreshortened_joint_matched_on_the_body_behind_it():
     """An arm pointing at the camera: elbow and wrist seen over the body, their patches all body (far_diver, 4.7 m)."""
     from dip3d_vehicle.perception.joint_stereo import match_arm
