@@ -476,7 +476,9 @@ def match_arm(arm: ArmKeypoints, left: np.ndarray, right: np.ndarray, sign: int,
     it by inverse variance: the joint moves to the left joint's row at that disparity, with that
     sigma; a farther one, or none, leaves the joint as given. Given the principal point and the
     limbs' plausible lengths (``limbs_m``: upper arm, forearm, metres), matches that make a limb
-    impossible are dropped too (``plausible_matches``: a wrist matched on the object behind it).
+    impossible are dropped too (``plausible_matches``: a wrist matched on the object behind it). The limbs
+    are judged on the matches themselves, not on their combination with the given disparities: with noisy
+    keypoints (4 px) the combination pulls a right match off, and the check then dropped the wrong joint.
     The arm is returned unchanged when its keypoints give no positive disparity.
     """
     disparity = arm.left_px[:, 0] - arm.right_px[:, 0]
@@ -500,9 +502,9 @@ def match_arm(arm: ArmKeypoints, left: np.ndarray, right: np.ndarray, sign: int,
     w_match, w_given = 1.0 / match_sigma ** 2, 1.0 / given ** 2
     combined = (w_match * found.disparity_px + w_given * disparity) / (w_match + w_given)
     if principal_px is not None and limbs_m is not None and np.any(m):
-        m = plausible_matches(arm.left_px, m, np.where(m, combined, disparity),
-                              np.where(m, 1.0 / np.sqrt(w_match + w_given), given), disparity, given, focal_px,
-                              baseline_m, principal_px, limbs_m)
+        m = plausible_matches(arm.left_px, m, np.where(m, found.disparity_px, disparity),
+                              np.where(m, match_sigma, given), disparity, given, focal_px, baseline_m, principal_px,
+                              limbs_m)
     if not np.any(m):
         return arm
     right_px = np.array(arm.right_px, dtype=float, copy=True)
