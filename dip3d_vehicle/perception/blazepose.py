@@ -28,7 +28,7 @@ from .blazepose_decode import DETECTOR_SIZE, decode, weighted_nms
 from .blazepose_roi import Roi, crop_matrix, letterbox_matrix, roi_from_points, warp
 from .calibration import StereoRig
 from .joint_stereo import (JOINT_FLOOR_FACTOR, LIMB_SLACK_M, JointDisparity, in_front_of_body, joint_disparities,
-                           match_joint_disparity, plausible_matches, shoulder_disparity, subpixel_peak as _subpixel,
+                           limb_switches, match_joint_disparity, shoulder_disparity, subpixel_peak as _subpixel,
                            unmatched_sigma_px)
 from .pointing_arm import AUTO, pointing_arm
 from .pose import ARM_INDICES, PoseEstimator
@@ -360,7 +360,7 @@ class BlazePoseEstimator(PoseEstimator):
         for the selector (``ArmKeypoints.keypoint_sigma_m``).
 
         ``limbs_m``: the plausible (shortest, longest) upper arm and forearm, metres; with "stereo", an
-        elbow / wrist match that makes a limb impossible is dropped (``joint_stereo.plausible_matches``).
+        elbow / wrist match that makes a limb impossible is dropped (``joint_stereo.limb_switches``).
 
         Keypoints are returned whatever their confidence: the pipeline applies
         ``pose.min_confidence`` (and reports ``pose_low_confidence`` rather than ``no_pose``).
@@ -504,11 +504,10 @@ class BlazePoseEstimator(PoseEstimator):
         if self.limbs_m is not None and matched.any():
             fb = rig.focal_px * rig.baseline_m
             slack = math.hypot(LIMB_SLACK_M, math.sqrt(2.0) * (self.keypoint_sigma_m or 0.0))
-            keep = plausible_matches(xy, matched, disp, np.maximum(sigma, self.disparity_floor_px * JOINT_FLOOR_FACTOR),
-                                     sign * body, unmatched_sigma_px(body, fb), rig.focal_px, rig.baseline_m,
-                                     rig.principal_point_px, self.limbs_m, slack)
-            dropped = matched & ~keep
-            disp[dropped], sigma[dropped], matched = sign * body, unmatched_sigma_px(body, fb), keep
+            dropped = limb_switches(xy, disp, np.maximum(sigma, self.disparity_floor_px * JOINT_FLOOR_FACTOR),
+                                    sign * body, unmatched_sigma_px(body, fb), matched, matched, rig.focal_px,
+                                    rig.baseline_m, rig.principal_point_px, self.limbs_m, slack)
+            disp[dropped], sigma[dropped], matched = sign * body, unmatched_sigma_px(body, fb), matched & ~dropped
         return JointDisparity(disp, sigma, matched, found.score)
 
     def _both_concurrently(self, left_img: np.ndarray, right_img: np.ndarray, sign: int

@@ -23,7 +23,7 @@ from .values import ArmKeypoints
 __all__ = ["JOINT_FLOOR_FACTOR", "MATCH_GROSS_SIGMAS", "match_arm", "match_joint_disparity", "subpixel_peak",
            "joint_disparities", "JointDisparity", "reach_disparities", "shoulder_disparity", "SHOULDER_WIDTH_M",
            "ARM_REACH_M", "TORSO_DEPTH_M", "in_front_of_body", "match_point", "limb_excess_sigmas", "LIMB_SIGMAS",
-           "plausible_matches", "unmatched_sigma_px"]
+           "limb_switches", "unmatched_sigma_px"]
 
 
 def _grey(patch: np.ndarray) -> np.ndarray:
@@ -417,38 +417,47 @@ def limb_excess_sigmas(left_px: np.ndarray, disparity_px: np.ndarray, sigma_px: 
     return out
 
 
-def plausible_matches(left_px: np.ndarray, matched: np.ndarray, disparity_px: np.ndarray, sigma_px: np.ndarray,
-                      fallback_px, fallback_sigma_px, focal_px: float, baseline_m: float,
-                      principal_px: tuple[float, float], limbs_m, slack_m: float = LIMB_SLACK_M) -> np.ndarray:
-    """Return ``matched`` without the fewest elbow / wrist matches that make a limb impossible (bool per joint).
+def limb_switches(left_px: np.ndarray, disparity_px: np.ndarray, sigma_px: np.ndarray, other_px, other_sigma_px,
+                  switchable: np.ndarray, is_match: np.ndarray, focal_px: float, baseline_m: float,
+                  principal_px: tuple[float, float], limbs_m, slack_m: float = LIMB_SLACK_M) -> np.ndarray:
+    """Return which elbow / wrist should take its other reading so that no limb is impossible (bool per joint).
 
-    ``disparity_px``, ``sigma_px``: every joint's disparity and sigma as they stand (pixels, matched or not).
+    Each joint stands at ``disparity_px`` (sigma ``sigma_px``, pixels); a ``switchable`` elbow or wrist has a
+    second reading, ``other_px`` (sigma ``other_sigma_px``): its patch match where it stands at the given
+    keypoints' disparity, or the reverse, or the body's disparity for a pose model's match.
 
     A thin wrist seen in front of a textured object matches that object, not the wrist (a placard 0.3 m
     behind the wrist: issue 11 session 27, line_of_sight seed 900 scene 15, "nothing detected" at 0.8
     though the arm pointed 27 deg clear of every other placard). Such a match makes the forearm longer
-    (or shorter) than any adult's by ``LIMB_SIGMAS`` and more (``limb_excess_sigmas``), where the joint's
-    disparity without the match (``fallback_px``, sigma ``fallback_sigma_px``: the given keypoints', or the
-    body's) does not: the matches whose removal leaves every limb plausible are dropped (the fewest; among
-    as few, the set leaving the least excess). The shoulder's match is kept; so is everything when no
-    removal helps.
+    (or shorter) than any adult's by ``LIMB_SIGMAS`` and more (``limb_excess_sigmas``). Or the given
+    keypoints' own disparity is the one far off (a 3-sigma draw of their noise) and its right match was
+    set aside by the gross check. When some limb is impossible, the fewest switches that leave every limb
+    plausible are made; among as few, those leaving the most joints at a patch match (``is_match``: whether a
+    joint's reading where it stands is one; a switch turns it over), then the least excess. None when no
+    switch helps. The shoulder never switches.
     """
-    fallback = np.broadcast_to(np.asarray(fallback_px, float), matched.shape)
-    fallback_sigma = np.broadcast_to(np.asarray(fallback_sigma_px, float), matched.shape)
+    other = np.broadcast_to(np.asarray(other_px, float), switchable.shape)
+    other_sigma = np.broadcast_to(np.asarray(other_sigma_px, float), switchable.shape)
 
-    def excess(drop: tuple[int, ...]) -> np.ndarray:
+    def excess(flip: tuple[int, ...]) -> np.ndarray:
         disp, sigma = np.array(disparity_px, float), np.array(sigma_px, float)
-        disp[list(drop)], sigma[list(drop)] = fallback[list(drop)], fallback_sigma[list(drop)]
+        disp[list(flip)], sigma[list(flip)] = other[list(flip)], other_sigma[list(flip)]
         return limb_excess_sigmas(left_px, disp, sigma, focal_px, baseline_m, principal_px, limbs_m, slack_m)
 
+    out = np.zeros(switchable.shape, bool)
     if np.all(excess(()) <= LIMB_SIGMAS):
-        return matched
-    options = [drop for drop in ((2,), (1,), (1, 2)) if matched[list(drop)].all()]
-    fine = [(len(drop), float(excess(drop).sum()), drop) for drop in options if np.all(excess(drop) <= LIMB_SIGMAS)]
-    if not fine:
-        return matched
-    out = matched.copy()
-    out[list(min(fine)[2])] = False
+        return out
+    options = [flip for flip in ((2,), (1,), (1, 2)) if switchable[list(flip)].all()]
+
+    def matches_after(flip: tuple[int, ...]) -> int:
+        turned = np.zeros(is_match.shape, bool)
+        turned[list(flip)] = True
+        return int(np.sum(np.asarray(is_match, bool) ^ turned))
+
+    fine = [(len(flip), -matches_after(flip), float(excess(flip).sum()), flip) for flip in options
+            if np.all(excess(flip) <= LIMB_SIGMAS)]
+    if fine:
+        out[list(min(fine)[-1])] = True
     return out
 
 
@@ -476,9 +485,11 @@ def match_arm(arm: ArmKeypoints, left: np.ndarray, right: np.ndarray, sign: int,
     it by inverse variance: the joint moves to the left joint's row at that disparity, with that
     sigma; a farther one, or none, leaves the joint as given. Given the principal point and the
     limbs' plausible lengths (``limbs_m``: upper arm, forearm, metres), matches that make a limb
-    impossible are dropped too (``plausible_matches``: a wrist matched on the object behind it). The limbs
-    are judged on the matches themselves, not on their combination with the given disparities: with noisy
-    keypoints (4 px) the combination pulls a right match off, and the check then dropped the wrong joint.
+    impossible are dropped, or a match the gross check set aside is taken after all, whichever of the
+    fewest makes every limb plausible (``limb_switches``: a wrist matched on the object behind it; a given
+    wrist 8 px off its right match). The limbs are judged on the matches themselves, not on their
+    combination with the given disparities (with noisy keypoints, 4 px, the combination pulls a right
+    match off).
     The arm is returned unchanged when its keypoints give no positive disparity.
     """
     disparity = arm.left_px[:, 0] - arm.right_px[:, 0]
@@ -501,16 +512,20 @@ def match_arm(arm: ArmKeypoints, left: np.ndarray, right: np.ndarray, sign: int,
     m = matched & (np.abs(found.disparity_px - disparity) <= MATCH_GROSS_SIGMAS * np.hypot(match_sigma, given))
     w_match, w_given = 1.0 / match_sigma ** 2, 1.0 / given ** 2
     combined = (w_match * found.disparity_px + w_given * disparity) / (w_match + w_given)
-    if principal_px is not None and limbs_m is not None and np.any(m):
-        m = plausible_matches(arm.left_px, m, np.where(m, found.disparity_px, disparity),
-                              np.where(m, match_sigma, given), disparity, given, focal_px, baseline_m, principal_px,
-                              limbs_m)
+    final_sigma = 1.0 / np.sqrt(w_match + w_given)
+    if principal_px is not None and limbs_m is not None and np.any(matched):
+        flip = limb_switches(arm.left_px, np.where(m, found.disparity_px, disparity), np.where(m, match_sigma, given),
+                             np.where(m, disparity, found.disparity_px), np.where(m, given, match_sigma), matched, m,
+                             focal_px, baseline_m, principal_px, limbs_m)
+        restored = flip & ~m      # a match the gross check set aside: its own disparity, not pulled by the given
+        combined[restored], final_sigma[restored] = found.disparity_px[restored], match_sigma[restored]
+        m = m ^ flip
     if not np.any(m):
         return arm
     right_px = np.array(arm.right_px, dtype=float, copy=True)
     right_px[m, 0] = arm.left_px[m, 0] - combined[m]
     right_px[m, 1] = arm.left_px[m, 1]
-    sigma = np.where(m, 1.0 / np.sqrt(w_match + w_given), np.nan)
+    sigma = np.where(m, final_sigma, np.nan)
     return dataclasses.replace(arm, right_px=right_px, disparity_sigma_px=sigma, disparity_matched=m.copy())
 
 

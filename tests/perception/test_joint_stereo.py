@@ -205,25 +205,44 @@ def test_match_arm_drops_a_wrist_matched_on_the_textured_object_behind_it():
                      limbs_m=limbs).disparity_matched.all()
 
 
-def test_plausible_matches_drops_the_fewest_matches_that_make_a_limb_impossible():
+def test_limb_switches_makes_the_fewest_switches_that_leave_every_limb_plausible():
     """Falling back to the body's disparity (BlazePose's ``stereo``): the wrist's match alone is dropped, or none."""
-    from dip3d_vehicle.perception.joint_stereo import plausible_matches
+    from dip3d_vehicle.perception.joint_stereo import limb_switches
 
     xy = np.array([[150.0, 100.0], [295.0, 70.0], [440.0, 100.0]])     # at 60 px: 0.3 m limbs across
     limbs, centre = ((0.27, 0.37), (0.22, 0.29)), (300.0, 100.0)
-    matched = np.array([False, True, True])          # the shoulder from a torso model: 0.5 px, never dropped
+    matched = np.array([False, True, True])          # the shoulder from a torso model: 0.5 px, never switched
     sigma = np.array([0.5, 1.0, 0.5])
 
-    def keep(disparity_px):
-        return plausible_matches(xy, matched, np.asarray(disparity_px, float), sigma, 60.0, 4.0, 920.0, 0.12,
-                                 centre, limbs).tolist()
+    def switched(disparity_px):
+        return limb_switches(xy, np.asarray(disparity_px, float), sigma, 60.0, 4.0, matched, matched, 920.0, 0.12,
+                             centre, limbs).tolist()
 
-    assert keep([60.0, 60.0, 60.0]) == [False, True, True]             # a plausible arm: every match stays
-    assert keep([60.0, 60.0, 51.0]) == [False, True, False]            # the wrist 0.3 m behind: dropped
-    assert keep([60.0, 48.0, 48.0]) == [False, False, True]            # the elbow 0.46 m behind: the wrist is not
-    loose = plausible_matches(xy, matched, np.array([60.0, 60.0, 51.0]), sigma, 60.0, 4.0, 920.0, 0.12, centre,
-                              limbs, slack_m=0.2)
-    assert loose.tolist() == [False, True, True]                       # a pose model's own slack allows it
+    assert switched([60.0, 60.0, 60.0]) == [False, False, False]        # a plausible arm: no switch
+    assert switched([60.0, 60.0, 51.0]) == [False, False, True]         # the wrist 0.3 m behind: dropped
+    assert switched([60.0, 48.0, 48.0]) == [False, True, False]         # the elbow 0.46 m behind: the wrist is not
+    loose = limb_switches(xy, np.array([60.0, 60.0, 51.0]), sigma, 60.0, 4.0, matched, matched, 920.0, 0.12, centre,
+                          limbs, slack_m=0.2)
+    assert not loose.any()                                              # a pose model's own slack allows it
+
+
+def test_match_arm_takes_a_wrist_match_the_gross_check_set_aside_when_the_given_wrist_is_impossible():
+    """The given wrist 15 px off (0.6 m behind the arm), its right match set aside by the gross check."""
+    from dip3d_vehicle.perception.joint_stereo import match_arm
+    from dip3d_vehicle.perception.values import ArmKeypoints
+
+    rng = np.random.default_rng(4)
+    left = (rng.random((50, 150, 3)) * 255).astype(np.uint8).repeat(4, 0).repeat(4, 1)     # 200 x 600
+    right = np.zeros_like(left)
+    right[:, :540] = left[:, 60:]                              # the whole arm at 60 px (1.84 m)
+    xy = np.array([[150.0, 100.0], [295.0, 70.0], [440.0, 100.0]])
+    arm = ArmKeypoints("right", xy, xy - [[60.0, 0.0], [60.0, 0.0], [45.0, 0.0]], np.ones(3), np.ones(3), "test")
+    limbs, centre = ((0.27, 0.37), (0.22, 0.29)), (300.0, 100.0)
+    plain = match_arm(arm, left, right, 1, 920.0, 0.12, floor_px=0.5, given_sigma_px=2.0)
+    assert plain.disparity_matched.tolist() == [True, True, False]         # 15 px > 3 x hypot(0.5, 2)
+    out = match_arm(arm, left, right, 1, 920.0, 0.12, 0.5, 2.0, principal_px=centre, limbs_m=limbs)
+    assert out.disparity_matched.all()
+    assert abs(out.left_px[2, 0] - out.right_px[2, 0] - 60.0) < 0.3      # its own match, not pulled by the given
 
 
 def test_match_arm_sets_aside_a_foreshortened_joint_matched_on_the_body_behind_it():
