@@ -28,7 +28,7 @@ from .blazepose_decode import DETECTOR_SIZE, decode, weighted_nms
 from .blazepose_roi import Roi, crop_matrix, letterbox_matrix, roi_from_points, warp
 from .calibration import StereoRig
 from .joint_stereo import (JOINT_FLOOR_FACTOR, LIMB_SLACK_M, JointDisparity, in_front_of_body, joint_disparities,
-                           limb_switches, match_joint_disparity, shoulder_disparity, subpixel_peak as _subpixel,
+                           limb_spans_m, limb_switches, match_joint_disparity, shoulder_disparity, subpixel_peak as _subpixel,
                            unmatched_sigma_px)
 from .pointing_arm import AUTO, pointing_arm
 from .pose import ARM_INDICES, PoseEstimator
@@ -396,7 +396,7 @@ class BlazePoseEstimator(PoseEstimator):
                    joint_disparity=params.get("blazepose.joint_disparity", "landmarks"),
                    concurrent_eyes=params.get("blazepose.concurrent_eyes", False),
                    disparity_floor_px=params.get("blazepose.disparity_floor_px", 1.5),
-                   keypoint_sigma_m=params.get("blazepose.keypoint_sigma_m"), limbs_m=_limbs_m(params))
+                   keypoint_sigma_m=params.get("blazepose.keypoint_sigma_m"), limbs_m=limb_spans_m(params))
 
     def reset(self) -> None:
         """Forget both cameras' tracking state (and, with ``arm="auto"``, the last frame's arm)."""
@@ -502,12 +502,12 @@ class BlazePoseEstimator(PoseEstimator):
         disp, sigma, matched = found.disparity_px.copy(), found.sigma_px.copy(), found.matched.copy()
         disp[0], sigma[0], matched[0] = d, sd, False
         if self.limbs_m is not None and matched.any():
-            fb = rig.focal_px * rig.baseline_m
+            wide = unmatched_sigma_px(body, rig.focal_px * rig.baseline_m)
             slack = math.hypot(LIMB_SLACK_M, math.sqrt(2.0) * (self.keypoint_sigma_m or 0.0))
             dropped = limb_switches(xy, disp, np.maximum(sigma, self.disparity_floor_px * JOINT_FLOOR_FACTOR),
-                                    sign * body, unmatched_sigma_px(body, fb), matched, matched, rig.focal_px,
-                                    rig.baseline_m, rig.principal_point_px, self.limbs_m, slack)
-            disp[dropped], sigma[dropped], matched = sign * body, unmatched_sigma_px(body, fb), matched & ~dropped
+                                    sign * body, wide, matched, matched, rig.focal_px, rig.baseline_m,
+                                    rig.principal_point_px, self.limbs_m, slack)
+            disp[dropped], sigma[dropped], matched = sign * body, wide, matched & ~dropped
         return JointDisparity(disp, sigma, matched, found.score)
 
     def _both_concurrently(self, left_img: np.ndarray, right_img: np.ndarray, sign: int
@@ -606,15 +606,6 @@ def _eye_pool():
     """Return the shared 1-thread pool of the right eye's concurrent landmark run."""
     from .threads import shared_pool
     return shared_pool("pose-right", 1)
-
-
-def _limbs_m(params: Mapping[str, Any]) -> tuple[tuple[float, float], tuple[float, float]] | None:
-    """Return the plausible upper arm and forearm spans (metres) from ``selection.*``, or None where not given."""
-    keys = ("selection.upperarm_min_m", "selection.upperarm_max_m", "selection.forearm_min_m", "selection.forearm_max_m")
-    if not all(k in params for k in keys):
-        return None
-    lo_u, hi_u, lo_f, hi_f = (float(params[k]) for k in keys)
-    return (lo_u, hi_u), (lo_f, hi_f)
 
 
 def _extra(pose: PoseLandmarks, arm: str, min_visibility: float = 0.5) -> dict:

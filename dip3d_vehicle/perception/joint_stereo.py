@@ -23,7 +23,7 @@ from .values import ArmKeypoints
 __all__ = ["JOINT_FLOOR_FACTOR", "MATCH_GROSS_SIGMAS", "match_arm", "match_joint_disparity", "subpixel_peak",
            "joint_disparities", "JointDisparity", "reach_disparities", "shoulder_disparity", "SHOULDER_WIDTH_M",
            "ARM_REACH_M", "TORSO_DEPTH_M", "in_front_of_body", "match_point", "limb_excess_sigmas", "LIMB_SIGMAS",
-           "limb_switches", "unmatched_sigma_px"]
+           "limb_switches", "limb_spans_m", "unmatched_sigma_px"]
 
 
 def _grey(patch: np.ndarray) -> np.ndarray:
@@ -447,18 +447,27 @@ def limb_switches(left_px: np.ndarray, disparity_px: np.ndarray, sigma_px: np.nd
     out = np.zeros(switchable.shape, bool)
     if np.all(excess(()) <= LIMB_SIGMAS):
         return out
-    options = [flip for flip in ((2,), (1,), (1, 2)) if switchable[list(flip)].all()]
-
-    def matches_after(flip: tuple[int, ...]) -> int:
-        turned = np.zeros(is_match.shape, bool)
-        turned[list(flip)] = True
-        return int(np.sum(np.asarray(is_match, bool) ^ turned))
-
-    fine = [(len(flip), -matches_after(flip), float(excess(flip).sum()), flip) for flip in options
-            if np.all(excess(flip) <= LIMB_SIGMAS)]
+    match = np.asarray(is_match, bool)
+    fine = []
+    for flip in ((2,), (1,), (1, 2)):
+        if not switchable[list(flip)].all():
+            continue
+        left = excess(flip)
+        if np.all(left <= LIMB_SIGMAS):   # a switch turns a match into the other reading, or back
+            matches = int(match.sum()) + len(flip) - 2 * int(match[list(flip)].sum())
+            fine.append((len(flip), -matches, float(left.sum()), flip))
     if fine:
         out[list(min(fine)[-1])] = True
     return out
+
+
+def limb_spans_m(params) -> tuple[tuple[float, float], tuple[float, float]] | None:
+    """Return the plausible (shortest, longest) upper arm and forearm, metres, from ``selection.*``; None where not given."""
+    keys = ("selection.upperarm_min_m", "selection.upperarm_max_m", "selection.forearm_min_m", "selection.forearm_max_m")
+    if not all(k in params for k in keys):
+        return None
+    lo_u, hi_u, lo_f, hi_f = (float(params[k]) for k in keys)
+    return (lo_u, hi_u), (lo_f, hi_f)
 
 
 def match_arm(arm: ArmKeypoints, left: np.ndarray, right: np.ndarray, sign: int, focal_px: float,

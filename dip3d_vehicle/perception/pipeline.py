@@ -20,10 +20,10 @@ from .calibration import StereoRig
 from .candidates import CandidateDetector, SiftDetector
 from .corridor import CorridorDetector, merge_candidates
 from .filters import candidate_keep, pose_rejection
-from .joint_stereo import match_arm
+from .joint_stereo import limb_spans_m, match_arm
 from .pose import PoseEstimator
 from .reuse import CandidateReuse
-from .selection import PointingSelector, arm_model_from_params, make_selector
+from .selection import PointingSelector, make_selector
 from .triangulation import normalize_q, triangulate
 from .threads import shared_pool, single_threaded_blas, single_threaded_opencv
 from .values import JOINTS, Arm3D, ArmKeypoints, Candidates, Selection
@@ -317,11 +317,10 @@ class Perception:
         if arm is None or arm.disparity_sigma_px is not None or not self.params.get("pose.match_disparity", False):
             return arm
         given_sigma_px = math.sqrt(2.0) * keypoint_noise_px(arm, self.params["selection.keypoint_sigma_px"])
-        model = arm_model_from_params(self.params)
         return match_arm(arm, left_rect, right_rect, self.rig.disparity_sign, self.rig.focal_px, self.rig.baseline_m,
                          float(self.params["pose.match_disparity_floor_px"]), given_sigma_px,
                          float(self.params["pose.match_disparity_patch_m"]), self.rig.principal_point_px,
-                         (model.upperarm_m, model.forearm_m))
+                         limb_spans_m(self.params))
 
     def check_arm(self, arm: ArmKeypoints | None) -> PerceptionResult:
         """Triangulate and filter the arm; status "ok" when it may be used for selection."""
