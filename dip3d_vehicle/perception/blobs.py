@@ -65,7 +65,11 @@ BESIDE_TRIES_PER_SLOT = 6
 axis first, until the slots are filled by spots that pass: a slot goes to a spot plainly off its object's
 depth, not to the first one tried (issue 11 session 23: the undetectable family's scene 900 #6, a 7 px
 target 57 px beside a placard 3 m in front of it, lost both slots to the placard's own rim spots, nearer
-the axis, in every noisy draw, and the selector chose the placard beside the pointed one)."""
+the axis, in every noisy draw, and the selector chose the placard beside the pointed one). A spot whose
+patch already matches at its object's own disparity (``_on_object``) is that object's texture: it is set
+aside before the row search and costs no try (issue 11 session 28: the undetectable family's scene 1300
+#12, a 11 px target beside a 96 px placard 1.9 m in front of it, ranked past 12 rim spots of another
+placard, all at their placard's depth, in 7 of 8 draws)."""
 
 BESIDE_SCORE_MARGIN = 0.3
 BESIDE_DEPTH_SPREAD_PX = 1
@@ -84,7 +88,9 @@ class BlobFinder:
             of about 2-6 inner sigmas across responds most).
         min_contrast_sigmas: a spot's response must exceed this many robust noise sigmas of the wedge.
         min_contrast: and this many grey levels.
-        edge_ratio: largest accepted ratio of the response's principal curvatures (an edge's is large).
+        edge_ratio: largest accepted ratio of the response's principal curvatures (an edge's is large); 10 as
+            SIFT's: a placard of ~14 px with a printed numeral responds elongated, at a ratio near 8 (issue 11
+            session 28: the undetectable family's scene 1300 #18, unseen at 6).
         max_blobs: the strongest this many are matched.
         max_beside: at most this many of them may lie just beside a recognised object (``KNOWN_GROW_PX``).
         beside_max_sigma_px: such a spot is kept only when its row match is this sharp (pixels).
@@ -94,7 +100,7 @@ class BlobFinder:
     """
 
     def __init__(self, inner_sigma_px: float = 2.0, outer_sigma_px: float = 5.0, min_contrast_sigmas: float = 6.0,
-                 min_contrast: float = 3.0, edge_ratio: float = 6.0, max_blobs: int = 12, min_score: float = 0.7,
+                 min_contrast: float = 3.0, edge_ratio: float = 10.0, max_blobs: int = 12, min_score: float = 0.7,
                  min_depth_m: float = 1.0, max_depth_m: float = 12.0, scale: float = 0.5, max_beside: int = 2,
                  beside_max_sigma_px: float = 1.0) -> None:
         self.scale = scale
@@ -133,9 +139,9 @@ class BlobFinder:
         ``known``: each recognised object's feature pixels; spots inside their hull are that object's own
         texture and are skipped. Spots just outside it (grown by ``KNOWN_GROW_PX`` or
         ``KNOWN_GROW_SHARE`` of its width) are presumed its texture too: the strongest spots apart from
-        every object come first (at most ``max_blobs``, no owners), then, while room is left, up to
-        ``BESIDE_TRIES_PER_SLOT`` per slot of those beside one (owners: indices into ``known``), nearest
-        the wedge ``poly``'s axis first (``find`` keeps at most ``max_beside`` of them). Pixels are left
+        every object come first (at most ``max_blobs``, no owners), then, while room is left, every one
+        beside one (owners: indices into ``known``), nearest the wedge ``poly``'s axis first (``find``
+        tries ``BESIDE_TRIES_PER_SLOT`` per slot of them and keeps at most ``max_beside``). Pixels are left
         rectified.
         """
         hulls = [(j, cv2.convexHull(np.asarray(px, np.float32).reshape(-1, 1, 2))) for j, px in enumerate(known)
@@ -164,7 +170,6 @@ class BlobFinder:
             return far, [()] * len(far)
         near_px = np.array([q[:2] for q in beside], float)
         order = np.argsort(wedge_offset(poly, near_px), kind="stable") if poly is not None else np.arange(len(beside))
-        order = order[:room * BESIDE_TRIES_PER_SLOT]
         return np.vstack([far, near_px[order]]), [()] * len(far) + [beside[k][2] for k in order]
 
     def _beside_slots(self, n_apart: int) -> int:
@@ -212,7 +217,9 @@ class BlobFinder:
         ``responses``: ``responses(left_rect, poly)`` when already computed. ``known_xyz``: the known
         objects' 3D points (metres); a spot beside one is kept only when its match is sharp
         (``beside_max_sigma_px``) and, where the object's points are given, plainly off its disparity
-        plane (``_apart_from``); else it is taken for the object's texture.
+        plane (``_apart_from``); else it is taken for the object's texture. One that matches at an
+        object's own disparity is set aside before its row search, and costs none of the
+        ``BESIDE_TRIES_PER_SLOT`` tries per slot.
         """
         if poly is None:
             return Blobs.empty()
@@ -224,15 +231,20 @@ class BlobFinder:
         half = int(max(4, round(2.0 * self.inner_sigma_px + 2)))
         keep, disp, sigma = [], [], []
         room = self._beside_slots(sum(1 for near in owners if not near))
+        tries = room * BESIDE_TRIES_PER_SLOT
         for (x, y), near in zip(spots, owners):
-            if near and room <= 0:
-                break   # the spots beside objects come last: their slots are filled
+            if near and (room <= 0 or tries <= 0):
+                break   # the spots beside objects come last: their slots are filled, or their tries spent
             xi, yi = int(round(x)), int(round(y))
+            at = [_on_object(left_rect, right_rect, xi, yi, half, rig, known[j], known_xyz[j])
+                  for j in near if j < len(known_xyz)]
+            if any(a is not None and a[2] is not None and a[2] >= self.min_score for a in at):
+                continue  # its patch matches at the object's own disparity: that object's texture, no try spent
+            tries -= bool(near)
             m = match_point(left_rect, right_rect, xi, yi, d_lo, d_hi, rig.disparity_sign, half, self.min_score, 1.5)
             if m is None or (near and m[1] > self.beside_max_sigma_px):
                 continue
-            if any(not _apart_from(left_rect, right_rect, xi, yi, m, half, rig, known[j], known_xyz[j])
-                   for j in near if j < len(known_xyz)):
+            if any(not _apart_from(m, a) for a in at):
                 continue
             room -= bool(near)
             keep.append((x, y))
@@ -267,22 +279,33 @@ def object_disparity(px: np.ndarray, xyz_m: np.ndarray, at_px: np.ndarray, fb: f
     return float(np.median(d)), float(np.std(d))
 
 
-def _apart_from(left_rect: np.ndarray, right_rect: np.ndarray, x: int, y: int, match: tuple, half: int,
-                rig: StereoRig, object_px: np.ndarray, object_xyz_m: np.ndarray) -> bool:
-    """Return whether a spot beside an object is its own thing (not the object's texture), pixels.
+def _on_object(left_rect: np.ndarray, right_rect: np.ndarray, x: int, y: int, half: int, rig: StereoRig,
+               object_px: np.ndarray, object_xyz_m: np.ndarray) -> tuple[float, int, float | None] | None:
+    """Return (the object's disparity at the spot, its spread, the patch's best NCC there) in pixels, or None.
 
-    Its own thing: its best row match lies clearly off the object's disparity extrapolated to it, and the
-    patch scores clearly worse there (a placard's edge matched on a repeat of itself is sharp too).
+    None when the object has no 3D points; the score is None when the patch or its span falls off the image.
     """
     fit = object_disparity(np.asarray(object_px, float), np.asarray(object_xyz_m, float), np.array([x, y], float),
                            rig.focal_px * rig.baseline_m)
     if fit is None:
-        return True
+        return None
     d_obj, rms = fit
     spread = int(np.ceil(BESIDE_DEPTH_SPREAD_PX + 2.0 * rms))
+    return d_obj, spread, score_at(left_rect, right_rect, x, y, d_obj, rig.disparity_sign, half, spread)
+
+
+def _apart_from(match: tuple[float, float, float], on_object: tuple[float, int, float | None] | None) -> bool:
+    """Return whether a spot beside an object is its own thing (not the object's texture), pixels.
+
+    ``match``: the spot's row match (disparity, sigma, score); ``on_object``: ``_on_object``'s reading.
+    Its own thing: its best row match lies clearly off the object's disparity extrapolated to it, and the
+    patch scores clearly worse there (a placard's edge matched on a repeat of itself is sharp too).
+    """
+    if on_object is None:
+        return True
+    d_obj, spread, at = on_object
     if abs(match[0] - d_obj) <= spread + 1:
         return False
-    at = score_at(left_rect, right_rect, x, y, d_obj, rig.disparity_sign, half, spread)
     return at is None or match[2] - at >= BESIDE_SCORE_MARGIN
 
 

@@ -164,8 +164,9 @@ def test_an_overwhelming_object_with_spots_about_does_not_break_the_arithmetic(m
 def test_the_slots_for_spots_beside_objects_go_to_spots_that_pass_not_to_the_first_tried(monkeypatch):
     """Three rim spots of a placard at 3.75 m lie beside it nearer the wedge's axis than a small thing at 3 m,
     also beside it (issue 11 session 23: undetectable scene 900 #6). The rim spots match on the placard's
-    own depth and are set aside; the small thing still gets a slot. Tried only as many as there are slots
-    (``max_beside``, 2), the rim spots would have taken them all."""
+    own depth and are set aside; the small thing still gets a slot. The rim spots' patches already match at
+    the placard's own disparity, so they are set aside before any row search and cost no try: even one try
+    per slot reaches the small thing (issue 11 session 28; before, the rim spots took every try)."""
     from dip3d_vehicle.perception import blobs as blobs_module
 
     left, right = _water(1), _water(2)
@@ -183,5 +184,11 @@ def test_the_slots_for_spots_beside_objects_go_to_spots_that_pass_not_to_the_fir
     assert np.any(np.linalg.norm(found.xyz_m - thing, axis=1) < 0.1)
     assert np.all(np.abs(found.xyz_m[:, 2] - 3.75) > 0.3)          # no rim spot kept
     monkeypatch.setattr(blobs_module, "BESIDE_TRIES_PER_SLOT", 1)
-    first_tried = BlobFinder().find(left, right, WEDGE, RIG, [grid], known_xyz=[known_xyz])
-    assert not np.any(np.linalg.norm(first_tried.xyz_m - thing, axis=1) < 0.1)
+    tried = []
+    match_point = blobs_module.match_point
+    monkeypatch.setattr(blobs_module, "match_point", lambda *a: tried.append(a[2:4]) or match_point(*a))
+    one_try = BlobFinder().find(left, right, WEDGE, RIG, [grid], known_xyz=[known_xyz])
+    assert np.any(np.linalg.norm(one_try.xyz_m - thing, axis=1) < 0.1)
+    rims = np.array([[1150.0, 585.0], [1150.0, 615.0], [1205.0, 553.0]])
+    assert any(np.hypot(x - thing_px[0], y - thing_px[1]) < 10 for x, y in tried)
+    assert not any(np.min(np.hypot(x - rims[:, 0], y - rims[:, 1])) < 10 for x, y in tried)  # no rim spot row-searched
