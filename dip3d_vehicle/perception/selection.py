@@ -37,6 +37,7 @@ from .blobs import Blobs
 from .calibration import StereoRig
 from .candidates import HAND_LENGTH_M
 from .evidence import arm_evidence
+from .joint_stereo import limb_spans_m
 from .pointing_fit import SHAPE_POINTS, ArmModel, _PointingFit, _rays, object_shape
 from .triangulation import normalize_q, triangulate
 from .values import Arm3D, ArmKeypoints, Candidates, ObjectCandidate, Selection
@@ -503,10 +504,9 @@ def _touching(objects: list[ObjectCandidate], xyz_m: np.ndarray, best: int, gap_
 
 def arm_model_from_params(params: Mapping) -> ArmModel:
     """Return the default selector's arm priors from ``selection.*`` parameters."""
-    return ArmModel(params["selection.keypoint_sigma_px"], params["selection.pointing_sigma_rad"],
-                    (params["selection.forearm_min_m"], params["selection.forearm_max_m"]),
-                    (params["selection.upperarm_min_m"], params["selection.upperarm_max_m"]),
-                    params["selection.object_extent_m"])
+    upperarm_m, forearm_m = limb_spans_m(params)   # the same spans the stereo limb check reads
+    return ArmModel(params["selection.keypoint_sigma_px"], params["selection.pointing_sigma_rad"], forearm_m,
+                    upperarm_m, params["selection.object_extent_m"])
 
 
 def open_set_from_params(params: Mapping) -> OpenSet:
