@@ -96,3 +96,24 @@ def test_blazepose_reads_the_left_arm_pointer_with_auto(arm, found):
         assert pose.counts["blazepose"] == 1 and err.max() < 40, err
     else:
         assert pose.counts["blazepose (low confidence)"] == 1 and err.max() > 40, err
+
+
+def test_blazepose_finds_the_diver_in_murky_water_in_a_square_tile_of_the_frame():
+    """Murky green water: the whole letterboxed frame, stretched or not, scores the diver under the
+    detector's bar; the last retry (square tiles of the frame's height, each stretched) finds the body,
+    and the arm read from it lies on the pointing arm."""
+    sc, frame = _frame(seed=0, t=3.0, scenario="murky")
+    rig = sc.rig()
+    params = sim_params(load_params(overrides={"sitl.pose_source": "blazepose"}), sc)
+    left, right = rig.rectify(frame.left, frame.right)
+    pose = SimPose(params)
+    detector = pose.backend.pose
+    assert detector.detect(left) is None and detector.detect(left, contrast=True) is None
+    found = detector.detect_in_squares(left)
+    assert found is not None and found.score >= detector.min_detection_score
+    arm = pose.estimate(left, right, rig)
+    assert arm is not None and arm.min_confidence() >= params["pose.min_confidence"]
+    truth = frame.meta["keypoints_truth"]["left"]
+    err = np.linalg.norm(rig.to_original(np.asarray(arm.left_px), "left")
+                         - np.array([truth[j] for j in ("shoulder", "elbow", "wrist")]), axis=1)
+    assert err.max() < 40, err
