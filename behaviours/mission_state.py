@@ -49,7 +49,14 @@ def new_result(bb: Blackboard):
 
 
 def arm_raised(bb: Blackboard, result) -> bool:
-    """Return True when a result shows a raised pointing arm."""
+    """Return True when a result shows a raised pointing arm the pose source is sure of.
+
+    Raised: the triangulated shoulder-to-wrist direction at least ``behaviour.min_raise_rad`` from
+    straight down. Sure: every joint's confidence at least ``behaviour.min_arm_confidence`` (BlazePose
+    folds a hanging arm it cannot see up over the shoulder, at a lower visibility).
+    """
+    if result is None or result.arm is None or result.arm.min_confidence() < bb.config.min_arm_confidence:
+        return False
     return is_raised(arm_direction(result), bb.config.min_raise_rad)
 
 
