@@ -69,15 +69,16 @@ def rig():
 
 
 def _result(raised: bool = True, image_angle: float = 0.0, target_xyz=(0.5, 0.0, 2.0), confidence: float = 0.9,
-            ambiguous: bool = False, status: str = "ok") -> PerceptionResult:
-    """A perception result: an arm (raised or hanging) and optionally a chosen object."""
+            ambiguous: bool = False, status: str = "ok", joint_confidence: float = 1.0) -> PerceptionResult:
+    """A perception result: an arm (raised or hanging; its joints' pose confidence) and optionally a chosen object."""
     shoulder = np.array([-0.5, 0.0, 2.5])
     direction = np.array([1.0, 0.0, 0.0]) if raised else np.array([0.1, 1.0, 0.0])
     direction /= np.linalg.norm(direction)
     xyz = np.array([shoulder, shoulder + 0.3 * direction, shoulder + 0.58 * direction])
     c, s = math.cos(image_angle), math.sin(image_angle)
     left = np.array([[500.0, 600.0], [500 + 100 * c, 600 + 100 * s], [500 + 190 * c, 600 + 190 * s]])
-    arm = ArmKeypoints("right", left, left - [30.0, 0.0], np.ones(3), np.ones(3))
+    conf = np.array([1.0, 1.0, joint_confidence])
+    arm = ArmKeypoints("right", left, left - [30.0, 0.0], conf, conf.copy())
     arm3d = Arm3D(xyz, np.full(3, 0.05))
     if status != "ok":
         return PerceptionResult(status, "", arm, arm3d)
@@ -104,6 +105,20 @@ def test_wait_for_diver_needs_n_of_m_raised_frames(rig):
     assert m.state == "wait_for_diver"
     feed(m, [_result(True)])
     assert m.state == "confirm_point"
+
+
+def test_a_raised_arm_the_pose_source_is_unsure_of_is_not_raised(rig):
+    """BlazePose folds a hanging arm it cannot see up over the shoulder, at a lower visibility: such frames
+    neither start confirm_point nor keep a point alive."""
+    m = engaged_mission(rig, **{"behaviour.arm_seen_n": 3, "behaviour.arm_seen_m": 5,
+                                "behaviour.min_arm_confidence": 0.8, "behaviour.arm_lost_frames": 3})
+    enter(m, "wait_for_diver")
+    feed(m, [_result(True, joint_confidence=0.7) for _ in range(5)])
+    assert m.state == "wait_for_diver"
+    feed(m, [_result(True, joint_confidence=0.85) for _ in range(3)], t0=1.0)
+    assert m.state == "confirm_point"
+    feed(m, [_result(True, joint_confidence=0.7) for _ in range(3)], t0=2.0)
+    assert m.state == "wait_for_diver"
 
 
 def test_confirm_point_needs_a_steady_direction_for_the_hold_time(rig):
