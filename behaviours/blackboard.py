@@ -42,7 +42,8 @@ class BehaviourConfig:
     arm_seen_n: int = 3
     arm_seen_m: int = 5
     min_raise_rad: float = 0.9
-    min_arm_confidence: float = 0.8
+    min_arm_confidence: float = 0.85
+    folded_arm_rad: float = 0.785
     arm_lost_frames: int = 3
     steady_angle_rad: float = 0.1
     steady_hold_s: float = 1.0

@@ -12,9 +12,9 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from dip3d_vehicle.perception.pipeline import PerceptionResult
-from dip3d_vehicle.perception.values import Candidates, ObjectCandidate
+from dip3d_vehicle.perception.values import ArmKeypoints, Candidates, ObjectCandidate
 
-__all__ = ["arm_direction", "image_direction", "is_raised", "angular_spread_rad", "Vote", "VoteBox", "VoteDecision"]
+__all__ = ["arm_direction", "image_direction", "is_raised", "is_folded_guess", "angular_spread_rad", "Vote", "VoteBox", "VoteDecision"]
 
 _DOWN = np.array([0.0, 1.0, 0.0])
 
@@ -57,6 +57,21 @@ def is_raised(direction: np.ndarray | None, min_raise_rad: float) -> bool:
     if direction is None:
         return False
     return math.acos(float(np.clip(direction @ _DOWN, -1.0, 1.0))) >= min_raise_rad
+
+
+def is_folded_guess(arm: ArmKeypoints | None, direction_px: np.ndarray | None, min_confidence: float,
+                    folded_rad: float) -> bool:
+    """Return True for an arm the pose source is unsure of that it placed folded up over the shoulder.
+
+    Unsure: some joint's confidence under ``min_confidence``. Folded up: the left-image shoulder-to-wrist
+    direction ``direction_px`` within ``folded_rad`` of straight up. BlazePose guesses a hanging arm it
+    cannot see (in profile, against the dark body) that way: on the simulated diver 33 % of the frames with
+    both arms hanging passed the raised test, their wrist 170 deg from down in the image (median) and
+    their joints' visibility 0.73 (a raised arm: 83 deg, 0.95; issue 14).
+    """
+    if arm is None or direction_px is None or arm.min_confidence() >= min_confidence:
+        return False
+    return math.acos(float(np.clip(-direction_px[1], -1.0, 1.0))) <= folded_rad
 
 
 def angular_spread_rad(directions: list[np.ndarray]) -> float:

@@ -10,7 +10,7 @@ Time is ``bb.now_s`` (the loop's clock); nothing here sleeps or starts a timer.
 from __future__ import annotations
 
 from .blackboard import Blackboard
-from .evidence import arm_direction, is_raised
+from .evidence import arm_direction, image_direction, is_folded_guess, is_raised
 from .tracker import TrackedTarget
 
 __all__ = ["MissionState", "new_result", "arm_raised", "track_target"]
@@ -49,15 +49,16 @@ def new_result(bb: Blackboard):
 
 
 def arm_raised(bb: Blackboard, result) -> bool:
-    """Return True when a result shows a raised pointing arm the pose source is sure of.
+    """Return True when a result shows a raised pointing arm, and not an arm the pose source folded up.
 
     Raised: the triangulated shoulder-to-wrist direction at least ``behaviour.min_raise_rad`` from
-    straight down. Sure: every joint's confidence at least ``behaviour.min_arm_confidence`` (BlazePose
-    folds a hanging arm it cannot see up over the shoulder, at a lower visibility).
+    straight down. Folded: BlazePose puts a hanging arm it cannot see (in profile, against the dark
+    body) up over the shoulder, at a lower confidence (``evidence.is_folded_guess``).
     """
-    if result is None or result.arm is None or result.arm.min_confidence() < bb.config.min_arm_confidence:
+    c = bb.config
+    if result is None or not is_raised(arm_direction(result), c.min_raise_rad):
         return False
-    return is_raised(arm_direction(result), bb.config.min_raise_rad)
+    return not is_folded_guess(result.arm, image_direction(result), c.min_arm_confidence, c.folded_arm_rad)
 
 
 def track_target(bb: Blackboard) -> tuple[bool, TrackedTarget | None]:

@@ -107,18 +107,21 @@ def test_wait_for_diver_needs_n_of_m_raised_frames(rig):
     assert m.state == "confirm_point"
 
 
-def test_a_raised_arm_the_pose_source_is_unsure_of_is_not_raised(rig):
+def test_an_arm_folded_up_over_the_shoulder_that_the_pose_source_is_unsure_of_is_not_raised(rig):
     """BlazePose folds a hanging arm it cannot see up over the shoulder, at a lower visibility: such frames
-    neither start confirm_point nor keep a point alive."""
-    m = engaged_mission(rig, **{"behaviour.arm_seen_n": 3, "behaviour.arm_seen_m": 5,
-                                "behaviour.min_arm_confidence": 0.8, "behaviour.arm_lost_frames": 3})
+    neither start confirm_point nor keep a point alive; a sure folded arm, or an unsure arm held out, does."""
+    m = engaged_mission(rig, **{"behaviour.arm_seen_n": 3, "behaviour.arm_seen_m": 5, "behaviour.arm_lost_frames": 3,
+                                "behaviour.min_arm_confidence": 0.85, "behaviour.folded_arm_rad": 0.785})
+    up = -math.pi / 2  # the wrist straight above the shoulder in the image
     enter(m, "wait_for_diver")
-    feed(m, [_result(True, joint_confidence=0.7) for _ in range(5)])
+    feed(m, [_result(True, image_angle=up, joint_confidence=0.7) for _ in range(5)])
     assert m.state == "wait_for_diver"
-    feed(m, [_result(True, joint_confidence=0.85) for _ in range(3)], t0=1.0)
+    feed(m, [_result(True, image_angle=up, joint_confidence=0.9) for _ in range(3)], t0=1.0)
     assert m.state == "confirm_point"
-    feed(m, [_result(True, joint_confidence=0.7) for _ in range(3)], t0=2.0)
+    feed(m, [_result(True, image_angle=up, joint_confidence=0.7) for _ in range(3)], t0=2.0)
     assert m.state == "wait_for_diver"
+    feed(m, [_result(True, image_angle=0.2, joint_confidence=0.7) for _ in range(3)], t0=3.0)
+    assert m.state == "confirm_point"
 
 
 def test_confirm_point_needs_a_steady_direction_for_the_hold_time(rig):
