@@ -28,6 +28,16 @@ def test_pose_source_selects_the_backend():
         pose_backend_for("x")
 
 
+def test_blazepose_in_the_simulator_reads_the_raised_arm_unless_the_user_chose_one():
+    """The simulated diver points with either hand and is often seen from behind (BlazePose then swaps
+    left and right): ``pose.arm`` becomes ``auto`` where the user left the default, and only with BlazePose."""
+    sc = load_scenario("far_placards", 0)
+    assert sim_params(load_params(), sc)["pose.arm"] == "right"
+    assert sim_params(load_params(), sc, **{"sitl.pose_source": "blazepose"})["pose.arm"] == "auto"
+    chosen = load_params(overrides={"sitl.pose_source": "blazepose", "pose.arm": "right"})
+    assert sim_params(chosen, sc)["pose.arm"] == "right"
+
+
 def test_truth_source_gives_the_frames_keypoints_and_counts():
     sc, frame = _frame()
     rig = sc.rig()
