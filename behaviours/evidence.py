@@ -65,9 +65,9 @@ def is_folded_guess(arm: ArmKeypoints | None, direction_px: np.ndarray | None, m
 
     Unsure: some joint's confidence under ``min_confidence``. Folded up: the left-image shoulder-to-wrist
     direction ``direction_px`` within ``folded_rad`` of straight up. BlazePose guesses a hanging arm it
-    cannot see (in profile, against the dark body) that way: on the simulated diver 33 % of the frames with
+    cannot see (in profile, against the dark body) that way: on the simulated diver 36 % of the frames with
     both arms hanging passed the raised test, their wrist 170 deg from down in the image (median) and
-    their joints' visibility 0.73 (a raised arm: 83 deg, 0.95; issue 14).
+    their joints' visibility 0.74 (a raised arm: 83 deg, 0.95; issue 14).
     """
     if arm is None or direction_px is None or arm.min_confidence() >= min_confidence:
         return False
