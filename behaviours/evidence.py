@@ -14,7 +14,8 @@ import numpy as np
 from dip3d_vehicle.perception.pipeline import PerceptionResult
 from dip3d_vehicle.perception.values import ArmKeypoints, Candidates, ObjectCandidate
 
-__all__ = ["arm_direction", "image_direction", "is_raised", "is_folded_guess", "angular_spread_rad", "Vote", "VoteBox", "VoteDecision"]
+__all__ = ["arm_direction", "image_direction", "is_raised", "is_folded_guess", "angular_spread_rad", "Vote", "VoteBox",
+           "VoteDecision"]
 
 _DOWN = np.array([0.0, 1.0, 0.0])
 
