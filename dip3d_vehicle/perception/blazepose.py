@@ -15,7 +15,7 @@ Two layers:
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any, Mapping
 
@@ -260,7 +260,7 @@ class BlazePose:
         """
         h, w = image.shape[:2]
         side = min(h, w)
-        if side < 1 or h == w:
+        if h == w:
             return None
         best: Detection | None = None
         for start in np.linspace(0, max(h, w) - side, SQUARE_TILES).round().astype(int):
@@ -268,7 +268,7 @@ class BlazePose:
             det = self.detect(np.ascontiguousarray(image[y0:y0 + side, x0:x0 + side]), bgr, contrast=True)
             if det is not None and (best is None or det.score > best.score):
                 shift = np.array([x0, y0], np.float64)
-                best = Detection(det.score, det.box_px + np.tile(shift, 2), det.keypoints_px + shift, det.contrast)
+                best = replace(det, box_px=det.box_px + np.tile(shift, 2), keypoints_px=det.keypoints_px + shift)
         return best
 
     @staticmethod
