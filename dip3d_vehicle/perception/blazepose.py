@@ -28,8 +28,8 @@ from .blazepose_decode import DETECTOR_SIZE, decode, weighted_nms
 from .blazepose_roi import Roi, crop_matrix, letterbox_matrix, roi_from_points, warp
 from .calibration import StereoRig
 from .joint_stereo import (JOINT_FLOOR_FACTOR, LIMB_SLACK_M, JointDisparity, in_front_of_body, joint_disparities,
-                           limb_spans_m, limb_switches, match_joint_disparity, shoulder_disparity, subpixel_peak as _subpixel,
-                           unmatched_sigma_px)
+                           head_disparity, limb_spans_m, limb_switches, match_joint_disparity, subpixel_peak as _subpixel,
+                           torso_shoulder_disparity, unmatched_sigma_px)
 from .pointing_arm import AUTO, pointing_arm
 from .pose import ARM_INDICES, PoseEstimator
 from .values import ArmKeypoints
@@ -370,7 +370,8 @@ class BlazePoseEstimator(PoseEstimator):
         wrist's left patches matched along their rows within the depths an arm reaches from the
         body (``joint_stereo.joint_disparities``) and the shoulder placed from the torso (the body's
         disparity, half a shoulder width nearer or farther by the torso's turn,
-        ``joint_stereo.shoulder_disparity``): the right landmarks are not used for depth, and the
+        ``joint_stereo.torso_shoulder_disparity``, which doubts the pose model's shoulder order and checks
+        the body's disparity against the head's match): the right landmarks are not used for depth, and the
         arm carries each joint's disparity sigma (its own, at least ``disparity_floor_px``), which
         the pipeline turns into the joints' depth sigma for the selector.
 
@@ -518,7 +519,9 @@ class BlazePoseEstimator(PoseEstimator):
                                   patch_m=JOINT_PATCH_M)
         near = left.z_px[ARM_INDICES[side][0]] <= left.z_px[ARM_INDICES[_OTHER[side]][0]]
         apart = float(np.linalg.norm(left.xy_px[11] - left.xy_px[12]))
-        d, sd = shoulder_disparity(sign * body, apart, bool(near), rig.focal_px, rig.baseline_m)
+        head = head_disparity(_extra(left, side).get("head"), left_rect, right_rect, sign * body, sign, rig.focal_px,
+                              rig.baseline_m)
+        d, sd = torso_shoulder_disparity(sign * body, apart, bool(near), rig.focal_px, rig.baseline_m, head)
         torso = float(np.linalg.norm(left.xy_px[[11, 12]].mean(axis=0) - left.xy_px[[23, 24]].mean(axis=0)))
         found = in_front_of_body(found, xy, left.xy_px[list(_BODY)], torso, sign * body, rig.focal_px, rig.baseline_m,
                                  JOINT_PATCH_M)

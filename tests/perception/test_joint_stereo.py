@@ -2,11 +2,13 @@
 
 from __future__ import annotations
 
+import math
 import sys
 from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
+import pytest
 
 from dip3d_vehicle.perception.joint_stereo import match_joint_disparity
 
@@ -96,6 +98,43 @@ def test_shoulder_from_the_torso_side_on_and_facing():
     # facing the camera (0.38 m apart across the image): both at the torso's depth, with a wider sigma
     facing, facing_sigma = shoulder_disparity(body, 0.38 * f / 3.0, True, f, b)
     assert abs(facing - body) < 1e-6 and facing_sigma > near_sigma
+
+
+def test_the_torso_shoulder_doubts_the_pose_models_shoulder_order_and_a_body_disparity_the_head_contradicts():
+    from dip3d_vehicle.perception.joint_stereo import (SHOULDER_MODEL_SIGMA_M, shoulder_disparity,
+                                                        torso_shoulder_disparity)
+
+    f, b = 920.0, 0.12
+    fb = f * b
+    body = fb / 3.0                             # torso centre 3 m away, seen side on
+    said, said_sigma = shoulder_disparity(body, 5.0, True, f, b)
+    other, _ = shoulder_disparity(body, 5.0, False, f, b)
+    d, sigma = torso_shoulder_disparity(body, 5.0, True, f, b)
+    # mostly the side the pose model says, but the other side is not ruled out
+    assert other < d < said and said - d < 0.1 * (said - other)
+    assert sigma > said_sigma and sigma > 0.2 * (said - other)
+    assert sigma >= d ** 2 / fb * SHOULDER_MODEL_SIGMA_M
+    # facing the camera the order does not matter: only the model's depth sigma is added
+    facing, facing_sigma = torso_shoulder_disparity(body, 0.38 * f / 3.0, True, f, b)
+    assert abs(facing - body) < 1e-6 and facing_sigma < 1.5 * math.hypot(
+        shoulder_disparity(body, 0.38 * f / 3.0, True, f, b)[1], body ** 2 / fb * SHOULDER_MODEL_SIGMA_M)
+    # a head matched where the model puts the torso changes little
+    agree, agree_sigma = torso_shoulder_disparity(body, 5.0, True, f, b, head=(d, d ** 2 / fb * 0.15))
+    assert abs(agree - d) < 0.2 and agree_sigma <= sigma
+    # a body disparity 10 px too near (a nearer object in the body's box): the head, 10 px away, widens the sigma
+    off, off_sigma = torso_shoulder_disparity(body + 10.0, 5.0, True, f, b, head=(said, said ** 2 / fb * 0.15))
+    assert off_sigma > 2.0 and abs(off - said) < 3.0 * off_sigma
+
+
+def test_reconcile_widens_the_sigma_by_the_estimates_spread():
+    from dip3d_vehicle.perception.joint_stereo import reconcile
+
+    mean, sigma = reconcile([(40.0, 1.0)])
+    assert (mean, sigma) == (40.0, 1.0)
+    mean, sigma = reconcile([(40.0, 1.0), (40.5, 2.0)])
+    assert 40.0 < mean < 40.5 and sigma == pytest.approx(1.0 / math.sqrt(1.25))
+    mean, sigma = reconcile([(40.0, 1.0), (50.0, 4.0)])
+    assert 40.0 < mean < 41.0 and sigma > 2.0
 
 
 
