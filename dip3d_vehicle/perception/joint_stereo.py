@@ -582,9 +582,11 @@ shoulder depth error is 0.09 m p90 on the built-ins, while its sigma was 0.04 m 
 
 SHOULDER_SIDE_DOUBT = 0.05
 """Probability that the pose model's depth order of the shoulders is the wrong way round (the pointing shoulder
-said nearer than the other when it is farther, or the reverse). Measured on the same census: right in all 4469
-built-in frames, wrong in 103 of 1719 variant frames (6 %), in 68 of 100 frames of one variant (``variant_9_03``:
-a murky diver half turned away, where the flip moved the shoulder 3-4 px of disparity, 0.2 m)."""
+said nearer than the other when it is farther, or the reverse). Measured on the same census: wrong in 2 of 4469
+built-in frames and 106 of 1719 variant frames (6 %), 68 of 100 in one variant (``variant_9_03``: a murky diver
+half turned away, where the flip moved the shoulder 3-4 px of disparity, 0.2 m). With 0.05 and the head's check the
+sigma's |z| is 0.81 / 1.40 (p50 / p90) over all 6188 frames, 0.4 % beyond 3 sigmas (before: 1.32 / 3.35, 15 %);
+with 0.1 it is 0.47 / 0.98, too wide (``docs/issue14/session30/census/shoulder_rules_table.md``)."""
 
 
 def reconcile(estimates: list[tuple[float, float]]) -> tuple[float, float]:
