@@ -14,7 +14,7 @@ import json, math, sys
 import numpy as np
 from dip3d_vehicle.config import load_params
 from dip3d_vehicle.perception.blazepose import BlazePoseEstimator, JOINT_PATCH_M, body_disparity, ARM_INDICES, _OTHER
-from dip3d_vehicle.perception.joint_stereo import joint_disparities, shoulder_disparity, _head_disparity
+from dip3d_vehicle.perception.joint_stereo import head_disparity, joint_disparities, shoulder_disparity
 from dip3d_vehicle.perception.keypoints_file import GivenKeypoints
 from sitl.scenario import load_scenario
 from sitl.simulation import sim_params
@@ -61,7 +61,7 @@ with open(out, "w") as fh:
                     df, sf = shoulder_disparity(sign * body, apart, not near, rig.focal_px, rig.baseline_m)
                     js = joint_disparities(L, R, arm.left_px, sign * body, sign, rig.focal_px, rig.baseline_m,
                                            patch_m=JOINT_PATCH_M)
-                    head = _head_disparity(arm, L, R, sign * body, sign, rig.focal_px, rig.baseline_m)
+                    head = head_disparity((arm.extra_left_px or {}).get("head"), L, R, sign * body, sign, rig.focal_px, rig.baseline_m)
                     xyz = fr.meta["body_truth"]["xyz_cam_m"]
                     arm_t = sc.diver.arm
                     z_t, z_o = xyz[f"{arm_t}_shoulder"][2], xyz[f"{_OTHER[arm_t]}_shoulder"][2]
@@ -76,6 +76,11 @@ with open(out, "w") as fh:
                            "own": [round(float(js.disparity_px[0]), 3), round(float(js.sigma_px[0]), 3),
                                    bool(js.matched[0]), round(float(js.score[0]), 3)],
                            "head": None if head is None else [round(head[0], 3), round(head[1], 3)],
+                           "nose_vis": round(float(lm.visibility[0]), 3),
+                           "ears_vis": [round(float(lm.visibility[i]), 3) for i in (7, 8)],
+                           "z_nose_minus_shoulders": round(float(lm.z_px[0] - 0.5 * (lm.z_px[11] + lm.z_px[12])), 1),
+                           "nose_x_from_ears": round(float(lm.xy_px[0, 0] - 0.5 * (lm.xy_px[7, 0] + lm.xy_px[8, 0])), 1),
+                           "true_nose_dz_m": round(xyz["nose"][2] - 0.5 * (z_t + z_o), 3),
                            "fb": fb, "turbidity": float(sc.water.turbidity_per_m)}
                     fh.write(json.dumps(row) + "\n")
                     fh.flush()
