@@ -68,6 +68,7 @@ class BehaviourConfig:
     track_gate_m: float = 0.5
     track_gate_growth_m_s: float = 0.4
     track_gate_max_m: float = 0.75
+    track_near_m: float = 0.25
     track_model_size: int = 600
     track_lost_frames: int = 3
     track_roi_margin_px: float = 200.0

@@ -7,8 +7,10 @@ the most descriptor matches to the model (Lowe's ratio test) whose centre lies i
 the predicted centre. The prediction moves the last centre by the commanded vehicle motion since
 then (yaw turns the scene about the camera's vertical axis, surge/heave translate it); the gate
 grows with the time since the last sighting. The model keeps the first sighting's descriptors (the
-identity) plus the latest sighting's (the appearance up close). Lost after N frames in a row
-without a match; any later frame with a match re-acquires it.
+identity) plus the latest sighting's (the appearance up close). A target too small for that count (a
+few features) is still taken when it is the only object in the gate, near the prediction, and shares a
+descriptor with the model. Lost after N frames in a row without a match; any later frame with a match
+re-acquires it.
 """
 
 from __future__ import annotations
@@ -42,6 +44,7 @@ class TrackerConfig:
     group_radius_m: float = 0.2
     min_object_features: int = 3
     gate_max_m: float = 0.75
+    near_m: float = 0.25
 
     @classmethod
     def from_params(cls, params: Mapping) -> "TrackerConfig":
@@ -50,7 +53,8 @@ class TrackerConfig:
                    params["behaviour.track_gate_m"], params["behaviour.track_gate_growth_m_s"],
                    params["behaviour.track_model_size"], params["behaviour.track_lost_frames"],
                    params["selection.group_radius_px"], params["selection.group_radius_m"],
-                   params["selection.min_object_features"], gate_max_m=params["behaviour.track_gate_max_m"])
+                   params["selection.min_object_features"], gate_max_m=params["behaviour.track_gate_max_m"],
+                   near_m=params["behaviour.track_near_m"])
 
 
 @dataclass(frozen=True)
@@ -213,9 +217,28 @@ class TargetTracker:
             if (anchored, count) > best_key:
                 best, best_key, best_count = obj, (anchored, count), count
         if best is None:
+            best, best_count = self._near_and_alone(objects, matched, predicted, gate)
+        if best is None:
             return None
         return TrackedTarget(np.asarray(best.left_px, float), np.asarray(best.xyz_m, float), best_count,
                              stamp_s, best)
+
+    def _near_and_alone(self, objects: list[ObjectCandidate], matched: np.ndarray, predicted: np.ndarray,
+                        gate_m: float) -> tuple[ObjectCandidate | None, int]:
+        """Return the one object of the gate, if it lies within ``near_m`` of the prediction and matches the model.
+
+        A small, faint target (a few features, found by the pointing corridor) often shares only one or two
+        descriptors with its model from one frame to the next, under the count the identity test asks. Its
+        position then identifies it, as long as nothing else is in the gate: the object nearest the prediction,
+        within ``near_m`` (metres), the only object within ``gate_m``, with at least one feature matching the model.
+        """
+        inside = [(float(np.linalg.norm(o.xyz_m - predicted)), o) for o in objects]
+        inside = [(d, o) for d, o in inside if d <= gate_m]
+        if len(inside) != 1 or inside[0][0] > self.config.near_m:
+            return None, 0
+        obj = inside[0][1]
+        count = int(np.count_nonzero(matched[list(obj.members)]))
+        return (obj, count) if count >= 1 else (None, 0)
 
     def _matched_features(self, model: np.ndarray, frame_desc: np.ndarray) -> np.ndarray:
         """Return a boolean per frame feature: it matches a model descriptor (ratio test)."""
