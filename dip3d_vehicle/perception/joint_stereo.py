@@ -353,11 +353,10 @@ def head_disparity(head_px, left: np.ndarray, right: np.ndarray, body_px: float,
     of ``HEAD_PATCHES_M`` matched. The head stands for the torso's depth: the shoulder's sigma is at
     least ``HEAD_SHOULDER_SIGMA_M``.
     """
-    head = head_px
-    if head is None:
+    if head_px is None:
         return None
     for patch_m in HEAD_PATCHES_M:
-        found = joint_disparities(left, right, np.array([head], float), body_px, sign, focal_px, baseline_m,
+        found = joint_disparities(left, right, np.array([head_px], float), body_px, sign, focal_px, baseline_m,
                                   patch_m=patch_m)
         if found.matched[0]:
             break
