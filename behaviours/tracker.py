@@ -216,7 +216,7 @@ class TargetTracker:
                 continue
             if (anchored, count) > best_key:
                 best, best_key, best_count = obj, (anchored, count), count
-        if best is None and self.misses <= 1:
+        if best is None:
             best, best_count = self._near_and_alone(objects, matched, predicted, gate)
         if best is None:
             return None
@@ -229,11 +229,13 @@ class TargetTracker:
 
         A small, faint target (a few features, found by the pointing corridor) often shares only one or two
         descriptors with its model from one frame to the next, under the count the identity test asks. Its
-        position then identifies it, as long as nothing else is in the gate: the object nearest the prediction,
-        within ``near_m`` (metres), the only object within ``gate_m``, with at least one feature matching the model.
-        Only while the target was seen in one of the last two frames (the caller checks): after a longer gap the
-        prediction is dead reckoning (the nod's swing drifts by decimetres) and may sit on another object.
+        position then identifies it, as long as nothing else is in the gate: the only object within ``gate_m``,
+        within ``near_m`` (metres) of the prediction, with at least one feature matching the model.
+        Only while the target was seen in one of the last two frames: after a longer gap the prediction is dead
+        reckoning (the nod's swing drifts by decimetres) and may sit on another object.
         """
+        if self.misses > 1:
+            return None, 0
         inside = [(float(np.linalg.norm(o.xyz_m - predicted)), o) for o in objects]
         inside = [(d, o) for d, o in inside if d <= gate_m]
         if len(inside) != 1 or inside[0][0] > self.config.near_m:
