@@ -28,7 +28,8 @@ from .blazepose_decode import DETECTOR_SIZE, decode, weighted_nms
 from .blazepose_roi import Roi, crop_matrix, letterbox_matrix, roi_from_points, warp
 from .calibration import StereoRig
 from .joint_stereo import (JOINT_FLOOR_FACTOR, LIMB_SLACK_M, JointDisparity, in_front_of_body, joint_disparities,
-                           head_disparity, limb_spans_m, limb_switches, match_joint_disparity, subpixel_peak as _subpixel,
+                           head_disparity, limb_spans_m, limb_switches, match_joint_disparity, on_background,
+                           subpixel_peak as _subpixel,
                            torso_shoulder_disparity, unmatched_sigma_px)
 from .pointing_arm import AUTO, pointing_arm
 from .pose import ARM_INDICES, PoseEstimator
@@ -525,6 +526,8 @@ class BlazePoseEstimator(PoseEstimator):
         torso = float(np.linalg.norm(left.xy_px[[11, 12]].mean(axis=0) - left.xy_px[[23, 24]].mean(axis=0)))
         found = in_front_of_body(found, xy, left.xy_px[list(_BODY)], torso, sign * body, rig.focal_px, rig.baseline_m,
                                  JOINT_PATCH_M)
+        found = on_background(found, left_rect, right_rect, xy, sign * body, sign, rig.focal_px, rig.baseline_m,
+                              JOINT_PATCH_M)
         disp, sigma, matched = found.disparity_px.copy(), found.sigma_px.copy(), found.matched.copy()
         disp[0], sigma[0], matched[0] = d, sd, False
         if self.limbs_m is not None and matched.any():

@@ -24,7 +24,8 @@ __all__ = ["JOINT_FLOOR_FACTOR", "MATCH_GROSS_SIGMAS", "match_arm", "match_joint
            "joint_disparities", "JointDisparity", "reach_disparities", "shoulder_disparity", "SHOULDER_WIDTH_M",
            "ARM_REACH_M", "TORSO_DEPTH_M", "in_front_of_body", "match_point", "limb_excess_sigmas", "LIMB_SIGMAS",
            "limb_switches", "limb_spans_m", "unmatched_sigma_px", "head_disparity", "torso_shoulder_disparity",
-           "reconcile", "SHOULDER_MODEL_SIGMA_M", "SHOULDER_SIDE_DOUBT"]
+           "reconcile", "SHOULDER_MODEL_SIGMA_M", "SHOULDER_SIDE_DOUBT", "on_background",
+           "BACKGROUND_PROBES_M", "BACKGROUND_SAME_PX"]
 
 
 def _grey(patch: np.ndarray) -> np.ndarray:
@@ -199,6 +200,11 @@ def score_at(left: np.ndarray, right: np.ndarray, x: int, y: int, disparity_px: 
     return float(_scores_along_row(template, right, y, xa, xb, half).max())
 
 
+def patch_half_px(body_disparity_px: float, baseline_m: float, patch_m: float) -> int:
+    """Return the half side (pixels, 4-24) of a patch ``patch_m`` wide at the body's depth (disparity ``body_disparity_px``)."""
+    return int(np.clip(round(0.5 * patch_m * abs(body_disparity_px) / baseline_m), 4, 24))
+
+
 def joint_disparities(left: np.ndarray, right: np.ndarray, left_xy: np.ndarray, body_disparity_px: float,
                       sign: int, focal_px: float, baseline_m: float, patch_m: float = 0.12, min_score: float = 0.6,
                       lr_tolerance_px: float = 1.5) -> JointDisparity:
@@ -219,8 +225,7 @@ def joint_disparities(left: np.ndarray, right: np.ndarray, left_xy: np.ndarray, 
         focal_px, baseline_m: the rectified rig's focal length (pixels) and baseline (metres).
     """
     d_lo, d_hi = reach_disparities(body_disparity_px, focal_px * baseline_m)
-    depth = focal_px * baseline_m / max(abs(body_disparity_px), 1e-6)
-    half = int(np.clip(round(0.5 * patch_m * focal_px / depth), 4, 24))
+    half = patch_half_px(body_disparity_px, baseline_m, patch_m)
     n = len(left_xy)
     disp = np.full(n, float(body_disparity_px))
     sigma = np.full(n, unmatched_sigma_px(body_disparity_px, focal_px * baseline_m))
@@ -306,6 +311,66 @@ def in_front_of_body(found: JointDisparity, left_xy: np.ndarray, body_px: np.nda
         hull = _hull(body_px) if hull is None else hull
         if _inside(xy[k], hull, margin):
             disp[k], sigma[k], matched[k] = sign * middle, max(sigma[k], 0.5 * (front - body)), False
+    return JointDisparity(disp, sigma, matched, found.score.copy())
+
+
+BACKGROUND_PROBES_M = ((0.25, 0.0), (0.0, 0.11), (0.0, -0.11))
+"""Where the wrist's background is probed: (along the forearm beyond the wrist, across it), metres at the body's
+depth: past the hand, and to both sides clear of the forearm (its patch, ``JOINT_PATCH_M`` wide, then spans
+0.05-0.17 m from the forearm's axis)."""
+
+BACKGROUND_SAME_PX = 1.0
+"""A background probe matched within this (disparity, pixels) of the wrist's match matches at the same depth."""
+
+
+def _background_explains(left: np.ndarray, right: np.ndarray, left_xy: np.ndarray, k: int, found: JointDisparity,
+                         sign: int, d_span: tuple[float, float], half: int, px_per_m: float) -> bool:
+    """True when some background probe beside joint ``k`` matches at its disparity at least as well as it does (pixels)."""
+    along = left_xy[k] - left_xy[k - 1]
+    norm = float(np.linalg.norm(along))
+    if norm < 1.0:
+        return False
+    u = along / norm
+    n = np.array([-u[1], u[0]])
+    h, w = left.shape[:2]
+    for a, b in BACKGROUND_PROBES_M:
+        x, y = (int(round(c)) for c in left_xy[k] + px_per_m * (a * u + b * n))
+        if not (half <= x < w - half and half <= y < h - half):
+            continue
+        probe = match_point(left, right, x, y, d_span[0], d_span[1], sign, half, 0.6, 1.5)
+        if (probe is not None and abs(probe[0] - abs(found.disparity_px[k])) <= BACKGROUND_SAME_PX
+                and probe[2] >= found.score[k]):
+            return True
+    return False
+
+
+def on_background(found: JointDisparity, left: np.ndarray, right: np.ndarray, left_xy: np.ndarray,
+                  body_disparity_px: float, sign: int, focal_px: float, baseline_m: float,
+                  patch_m: float = 0.12) -> JointDisparity:
+    """Return ``found`` with a wrist whose match the background beside it explains as well set aside (unmatched).
+
+    A wrist seen in front of a textured object: its patch (``patch_m`` wide at the body's depth) holds more of
+    the object's edges than of the hand, and it matches the object, with a narrow, confident peak (issue 14
+    session 31: ``variant_9_17`` seed 0, murky water, the hand over a placard 0.5 m behind it, the wrist 5-6 px
+    too far at a 0.5 px sigma in every frame, the vehicle sent to that placard). Then the background beside the
+    wrist (``BACKGROUND_PROBES_M``: past the hand, and to both sides of the forearm) matches at the same
+    disparity (within ``BACKGROUND_SAME_PX``) at least as well: nothing in the match says it is the wrist, so
+    the wrist takes the body's disparity with the unmatched sigma. Measured on BlazePose's wrists
+    (``docs/issue14/session31/scripts/wrist_census.py``, 2D error under 25 px): of the matches more than 2.5 px
+    off, 167 of 243 on the nine built-ins and session 18's seed-9 variants, 12 of 21 on the seed-10 variants;
+    of the rest, 3.1 % and 1.1 % set aside. The elbow is not probed: its sides hold the torso, near its depth.
+    """
+    k = len(left_xy) - 1
+    if not found.matched[k]:
+        return found
+    fb = focal_px * baseline_m
+    body = abs(body_disparity_px)
+    half = patch_half_px(body, baseline_m, patch_m)
+    if not _background_explains(left, right, np.asarray(left_xy, float), k, found, sign,
+                                reach_disparities(body, fb), half, body / baseline_m):
+        return found
+    disp, sigma, matched = found.disparity_px.copy(), found.sigma_px.copy(), found.matched.copy()
+    disp[k], sigma[k], matched[k] = body_disparity_px, unmatched_sigma_px(body, fb), False
     return JointDisparity(disp, sigma, matched, found.score.copy())
 
 

@@ -480,3 +480,58 @@ def test_a_joint_matched_on_the_body_it_hides_is_put_in_front_of_it():
     # the rig's other sign: the same magnitudes, negative
     neg = JointDisparity(-found.disparity_px, found.sigma_px, found.matched, found.score)
     assert np.allclose(in_front_of_body(neg, over, hull, torso, -body, f, b).disparity_px, -out.disparity_px)
+
+
+def _hand_over(background: np.ndarray, hand_disparity_px: int, background_disparity_px: int, textured_hand: bool,
+               radius_px: int = 8):
+    """Return a pair: ``background`` at one disparity, a forearm and hand (wrist at (300, 100)) nearer.
+
+    The hand is flat and dark (a glove in murky water) or textured and the bigger, ``radius_px``.
+    """
+    h, w = background.shape[:2]
+    left = background.copy()
+    right = np.zeros_like(left)
+    right[:, :w - background_disparity_px] = background[:, background_disparity_px:]
+    rng = np.random.default_rng(7)
+    arm = np.zeros((h, w), bool)
+    arm[100 - radius_px // 2:101 + radius_px // 2, 230:301] = True  # forearm, elbow at (230, 100)
+    yy, xx = np.mgrid[:h, :w]
+    arm |= (xx - 300 - radius_px) ** 2 + (yy - 100) ** 2 <= radius_px ** 2   # the hand beyond the wrist
+    blocks = np.repeat(np.repeat((rng.random((h // 3 + 1, w // 3 + 1, 3)) * 255).astype(np.uint8), 3, 0), 3, 1)[:h, :w]
+    shade = blocks if textured_hand else np.full((h, w, 3), 25, np.uint8)
+    left[arm] = shade[arm]
+    shifted = np.zeros_like(arm)
+    shifted[:, :w - hand_disparity_px] = arm[:, hand_disparity_px:]
+    moved = np.zeros_like(shade)
+    moved[:, :w - hand_disparity_px] = shade[:, hand_disparity_px:]
+    right[shifted] = moved[shifted]
+    return left, right
+
+
+def test_a_wrist_matched_on_the_textured_background_behind_it_is_set_aside():
+    from dip3d_vehicle.perception.joint_stereo import joint_disparities, on_background, unmatched_sigma_px
+
+    background, _ = _pair(0)
+    left, right = _hand_over(background, 36, 30, textured_hand=False)
+    xy = np.array([[150.0, 100.0], [230.0, 100.0], [300.0, 100.0]])
+    # body at disparity 33 px, f 920 px, B 0.12 m (3.35 m): the patch is 0.12 m = 33 px, mostly background
+    found = joint_disparities(left, right, xy, 33.0, 1, 920.0, 0.12)
+    assert found.matched[2] and abs(found.disparity_px[2] - 30.0) < 0.5 and found.sigma_px[2] <= 1.0
+    out = on_background(found, left, right, xy, 33.0, 1, 920.0, 0.12)
+    assert not out.matched[2] and out.disparity_px[2] == 33.0
+    assert out.sigma_px[2] == unmatched_sigma_px(33.0, 920.0 * 0.12) > 4.0          # 0.25 m of depth
+    assert out.matched[1] == found.matched[1] and out.disparity_px[1] == found.disparity_px[1]
+
+
+def test_a_wrist_matched_nearer_than_its_background_is_kept():
+    from dip3d_vehicle.perception.joint_stereo import joint_disparities, on_background
+
+    background, _ = _pair(0)
+    # textured at another depth (a hand that fills most of the patch); flat (a hand 0.07 m wide)
+    for bg, radius in ((background, 18), (np.full_like(background, 90), 10)):
+        left, right = _hand_over(bg, 36, 30, textured_hand=True, radius_px=radius)
+        xy = np.array([[150.0, 100.0], [230.0, 100.0], [300.0, 100.0]])
+        found = joint_disparities(left, right, xy, 33.0, 1, 920.0, 0.12)
+        assert found.matched[2] and abs(found.disparity_px[2] - 36.0) < 0.5
+        out = on_background(found, left, right, xy, 33.0, 1, 920.0, 0.12)
+        assert out is found
