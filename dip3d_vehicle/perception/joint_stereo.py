@@ -25,7 +25,7 @@ __all__ = ["JOINT_FLOOR_FACTOR", "MATCH_GROSS_SIGMAS", "match_arm", "match_joint
            "ARM_REACH_M", "TORSO_DEPTH_M", "in_front_of_body", "match_point", "limb_excess_sigmas", "LIMB_SIGMAS",
            "limb_switches", "limb_spans_m", "unmatched_sigma_px", "head_disparity", "torso_shoulder_disparity",
            "reconcile", "SHOULDER_MODEL_SIGMA_M", "SHOULDER_SIDE_DOUBT", "on_background",
-           "BACKGROUND_PROBES_M", "BACKGROUND_SAME_PX"]
+           "BACKGROUND_SIDE_M", "BACKGROUND_SAME_PX"]
 
 
 def _grey(patch: np.ndarray) -> np.ndarray:
@@ -314,10 +314,11 @@ def in_front_of_body(found: JointDisparity, left_xy: np.ndarray, body_px: np.nda
     return JointDisparity(disp, sigma, matched, found.score.copy())
 
 
-BACKGROUND_PROBES_M = ((0.25, 0.0), (0.0, 0.11), (0.0, -0.11))
-"""Where the wrist's background is probed: (along the forearm beyond the wrist, across it), metres at the body's
-depth: past the hand, and to both sides clear of the forearm (its patch, ``JOINT_PATCH_M`` wide, then spans
-0.05-0.17 m from the forearm's axis)."""
+BACKGROUND_SIDE_M = 0.11
+"""Where the wrist's background is probed: this far (metres at the body's depth) to both sides of the forearm, at
+the wrist, clear of the forearm (the probe, ``JOINT_PATCH_M`` wide, spans 0.05-0.17 m from the forearm's axis).
+Not past the hand: a probe there holds the pointing finger, at the wrist's depth (on session 18's seed-10
+variants it set aside 28 of 530 right wrists, against 5 for the sides alone)."""
 
 BACKGROUND_SAME_PX = 1.0
 """A background probe matched within this (disparity, pixels) of the wrist's match matches at the same depth."""
@@ -325,16 +326,15 @@ BACKGROUND_SAME_PX = 1.0
 
 def _background_explains(left: np.ndarray, right: np.ndarray, left_xy: np.ndarray, k: int, found: JointDisparity,
                          sign: int, d_span: tuple[float, float], half: int, px_per_m: float) -> bool:
-    """True when some background probe beside joint ``k`` matches at its disparity at least as well as it does (pixels)."""
+    """True when the background to either side of joint ``k`` matches at its disparity at least as well as it does (pixels)."""
     along = left_xy[k] - left_xy[k - 1]
     norm = float(np.linalg.norm(along))
     if norm < 1.0:
         return False
-    u = along / norm
-    n = np.array([-u[1], u[0]])
+    across = np.array([-along[1], along[0]]) / norm
     h, w = left.shape[:2]
-    for a, b in BACKGROUND_PROBES_M:
-        x, y = (int(round(c)) for c in left_xy[k] + px_per_m * (a * u + b * n))
+    for side in (1.0, -1.0):
+        x, y = (int(round(c)) for c in left_xy[k] + side * BACKGROUND_SIDE_M * px_per_m * across)
         if not (half <= x < w - half and half <= y < h - half):
             continue
         probe = match_point(left, right, x, y, d_span[0], d_span[1], sign, half, 0.6, 1.5)
@@ -352,13 +352,15 @@ def on_background(found: JointDisparity, left: np.ndarray, right: np.ndarray, le
     A wrist seen in front of a textured object: its patch (``patch_m`` wide at the body's depth) holds more of
     the object's edges than of the hand, and it matches the object, with a narrow, confident peak (issue 14
     session 31: ``variant_9_17`` seed 0, murky water, the hand over a placard 0.5 m behind it, the wrist 5-6 px
-    too far at a 0.5 px sigma in every frame, the vehicle sent to that placard). Then the background beside the
-    wrist (``BACKGROUND_PROBES_M``: past the hand, and to both sides of the forearm) matches at the same
-    disparity (within ``BACKGROUND_SAME_PX``) at least as well: nothing in the match says it is the wrist, so
-    the wrist takes the body's disparity with the unmatched sigma. Measured on BlazePose's wrists
-    (``docs/issue14/session31/scripts/wrist_census.py``, 2D error under 25 px): of the matches more than 2.5 px
-    off, 167 of 243 on the nine built-ins and session 18's seed-9 variants, 12 of 21 on the seed-10 variants;
-    of the rest, 3.1 % and 1.1 % set aside. The elbow is not probed: its sides hold the torso, near its depth.
+    too far at a 0.5 px sigma in every frame, the vehicle sent to that placard). Then the background to either
+    side of the wrist (``BACKGROUND_SIDE_M`` across the forearm) matches at the same disparity (within
+    ``BACKGROUND_SAME_PX``) at least as well: nothing in the match says it is the wrist, so the wrist takes the
+    body's disparity with the unmatched sigma. Measured on BlazePose's wrists
+    (``docs/issue14/session31/scripts/wrist_census.py``, frames whose joints lie within 25 px of the truth): of
+    the matches more than 2.5 px off, 208 of 300 are set aside on the nine built-ins (seeds 0-9) and session 18's
+    seed-9 variants (seeds 0-1), 14 of 34 on the seed-10 variants, never tuned on; of the rest, 2.7 % and 0.9 %.
+    The elbow is not probed: beside it lies the torso, near its depth (the rule would set aside 15 % of its right
+    matches, and 68 of 365 off).
     """
     k = len(left_xy) - 1
     if not found.matched[k]:
