@@ -12,7 +12,7 @@ taken several ways:
   searched along its row within the depth span an arm can reach from the body, with a left-right
   check; a joint without a valid match takes the body's disparity with a wide sigma);
 - ``stereo``: ``blazepose.joint_disparity: stereo`` (elbow and wrist as ``matched``, the shoulder
-  from the torso: ``joint_stereo.torso_shoulder_disparity``).
+  from the torso: ``shoulder_model.torso_shoulder_disparity``).
 
 Error = the angle between the shoulder-to-wrist direction triangulated from each and the one
 triangulated from the truth joints (``meta["keypoints_truth"]``, the body's joint centres; the

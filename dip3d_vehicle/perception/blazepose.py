@@ -29,10 +29,10 @@ from .blazepose_roi import Roi, crop_matrix, letterbox_matrix, roi_from_points, 
 from .calibration import StereoRig
 from .joint_stereo import (JOINT_FLOOR_FACTOR, LIMB_SLACK_M, JointDisparity, in_front_of_body, joint_disparities,
                            head_disparity, limb_spans_m, limb_switches, match_joint_disparity, on_background,
-                           subpixel_peak as _subpixel,
-                           torso_shoulder_disparity, unmatched_sigma_px)
+                           subpixel_peak as _subpixel, unmatched_sigma_px)
 from .pointing_arm import AUTO, pointing_arm
 from .pose import ARM_INDICES, PoseEstimator
+from .shoulder_model import torso_shoulder_disparity
 from .values import ArmKeypoints
 
 __all__ = ["BlazePose", "BlazePoseEstimator", "Detection", "PoseLandmarks", "Contrast",
@@ -371,7 +371,7 @@ class BlazePoseEstimator(PoseEstimator):
         wrist's left patches matched along their rows within the depths an arm reaches from the
         body (``joint_stereo.joint_disparities``) and the shoulder placed from the torso (the body's
         disparity, half a shoulder width nearer or farther by the torso's turn,
-        ``joint_stereo.torso_shoulder_disparity``, which doubts the pose model's shoulder order and checks
+        ``shoulder_model.torso_shoulder_disparity``, which doubts the pose model's shoulder order and checks
         the body's disparity against the head's match): the right landmarks are not used for depth, and the
         arm carries each joint's disparity sigma (its own, at least ``disparity_floor_px``), which
         the pipeline turns into the joints' depth sigma for the selector.

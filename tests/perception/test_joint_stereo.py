@@ -86,7 +86,7 @@ def test_joint_disparities_rejects_a_match_outside_the_reach():
 
 
 def test_shoulder_from_the_torso_side_on_and_facing():
-    from dip3d_vehicle.perception.joint_stereo import shoulder_disparity
+    from dip3d_vehicle.perception.shoulder_model import shoulder_disparity
 
     f, b = 920.0, 0.12
     body = f * b / 3.0                          # torso centre 3 m away
@@ -101,8 +101,8 @@ def test_shoulder_from_the_torso_side_on_and_facing():
 
 
 def test_the_torso_shoulder_doubts_the_pose_models_shoulder_order_and_a_body_disparity_the_head_contradicts():
-    from dip3d_vehicle.perception.joint_stereo import (SHOULDER_MODEL_SIGMA_M, shoulder_disparity,
-                                                        torso_shoulder_disparity)
+    from dip3d_vehicle.perception.shoulder_model import (SHOULDER_MODEL_SIGMA_M, shoulder_disparity,
+                                                         torso_shoulder_disparity)
 
     f, b = 920.0, 0.12
     fb = f * b
@@ -126,8 +126,17 @@ def test_the_torso_shoulder_doubts_the_pose_models_shoulder_order_and_a_body_dis
     assert off_sigma > 2.0 and abs(off - said) < 3.0 * off_sigma
 
 
+def test_the_shoulder_models_examples_hold():
+    import doctest
+
+    from dip3d_vehicle.perception import shoulder_model
+
+    result = doctest.testmod(shoulder_model)
+    assert result.attempted >= 2 and result.failed == 0
+
+
 def test_reconcile_widens_the_sigma_by_the_estimates_spread():
-    from dip3d_vehicle.perception.joint_stereo import reconcile
+    from dip3d_vehicle.perception.shoulder_model import reconcile
 
     mean, sigma = reconcile([(40.0, 1.0)])
     assert (mean, sigma) == (40.0, 1.0)

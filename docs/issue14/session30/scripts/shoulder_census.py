@@ -14,7 +14,8 @@ import json, math, sys
 import numpy as np
 from dip3d_vehicle.config import load_params
 from dip3d_vehicle.perception.blazepose import BlazePoseEstimator, JOINT_PATCH_M, body_disparity, ARM_INDICES, _OTHER
-from dip3d_vehicle.perception.joint_stereo import head_disparity, joint_disparities, shoulder_disparity
+from dip3d_vehicle.perception.joint_stereo import head_disparity, joint_disparities
+from dip3d_vehicle.perception.shoulder_model import shoulder_disparity
 from dip3d_vehicle.perception.keypoints_file import GivenKeypoints
 from sitl.scenario import load_scenario
 from sitl.simulation import sim_params

@@ -1,0 +1,109 @@
+"""The pointing shoulder's disparity from a torso model, with its doubts measured.
+
+A shoulder's own image patch is a round, evenly shaded blob that matches the neck or the back behind it, so the
+pose model's stereo arm (``blazepose.joint_disparity: stereo``) places the shoulder from the torso instead: the
+body's disparity, half a shoulder width nearer or farther by the torso's turn, on the side the pose model says
+is near, with the measured doubts of each step, reconciled with the head's match.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+__all__ = ["SHOULDER_WIDTH_M", "SHOULDER_MODEL_SIGMA_M", "SHOULDER_SIDE_DOUBT", "shoulder_disparity", "reconcile",
+           "torso_shoulder_disparity"]
+
+
+SHOULDER_WIDTH_M = (0.38, 0.03)
+"""Distance between the two shoulder joint centres of an adult, metres: (typical, one sigma)."""
+
+
+def shoulder_disparity(body_disparity_px: float, shoulders_apart_px: float, near: bool, focal_px: float,
+                       baseline_m: float, body_sigma_px: float = 0.5, landmark_sigma_px: float = 8.0,
+                       width_m: tuple[float, float] = SHOULDER_WIDTH_M) -> tuple[float, float]:
+    """Return the pointing shoulder's disparity (x_left - x_right, pixels) and its sigma from a torso model.
+
+    A shoulder's own patch holds little it can be matched by (a round, evenly shaded blob) and, seen
+    from the side, the neck and the back behind it, which lie at the torso's centre: matched, it
+    comes out at the torso's depth. Here the torso's centre is at the body's disparity and the
+    shoulders lie half a shoulder width to either side of it: their image separation gives the
+    torso's turn (|cos| = separation x depth / (focal x width)), so the shoulder is nearer (``near``)
+    or farther than the centre by (width / 2) x sin(turn).
+    """
+    fb = focal_px * baseline_m
+    depth = fb / max(abs(body_disparity_px), 1e-6)
+    width, width_sigma = width_m
+    cos_turn = float(np.clip(shoulders_apart_px * depth / (focal_px * width), 0.0, 1.0))
+    sin_turn = math.sqrt(1.0 - cos_turn ** 2)
+    offset = 0.5 * width * sin_turn * (-1.0 if near else 1.0)
+    # the width varies between people; near a frontal view sin is sensitive to the landmarks' error
+    cos_sigma = math.sqrt(2.0) * landmark_sigma_px * depth / (focal_px * width)
+    sin_sigma = min(1.0, cos_sigma * cos_turn / max(sin_turn, 0.3))
+    offset_sigma = math.hypot(0.5 * width_sigma * sin_turn, 0.5 * width * sin_sigma)
+    shoulder_depth = max(depth + offset, 0.1)
+    sign = 1.0 if body_disparity_px >= 0 else -1.0
+    disparity = sign * fb / shoulder_depth
+    sigma = math.hypot(body_sigma_px * (depth / shoulder_depth) ** 2, fb / shoulder_depth ** 2 * offset_sigma)
+    return disparity, sigma
+
+
+SHOULDER_MODEL_SIGMA_M = 0.05
+"""One-sigma depth error (metres) of the torso model's shoulder beyond what the body's disparity and the
+landmarks allow: the body's match is a texture-weighted surface, not the torso's centre, and people's builds
+differ. Measured (issue 14 session 30, ``docs/issue14/session30/scripts/shoulder_census.py``: BlazePose on
+4469 frames of the nine built-in scenarios, seeds 0-9, and 1719 of session 18's variant files): the model's
+shoulder depth error is 0.09 m p90 on the built-ins, while its sigma was 0.04 m in the median (|z| p90 3.0)."""
+
+SHOULDER_SIDE_DOUBT = 0.05
+"""Probability that the pose model's depth order of the shoulders is the wrong way round (the pointing shoulder
+said nearer than the other when it is farther, or the reverse). Measured on the same census: wrong in 2 of 4469
+built-in frames and 106 of 1719 variant frames (6 %), 68 of 100 in one variant (``variant_9_03``: a murky diver
+half turned away, where the flip moved the shoulder 3-4 px of disparity, 0.2 m). With 0.05 and the head's check the
+sigma's |z| is 0.81 / 1.40 (p50 / p90) over all 6188 frames, 0.4 % beyond 3 sigmas (before: 1.32 / 3.35, 15 %);
+with 0.1 it is 0.47 / 0.98, too wide (``docs/issue14/session30/census/shoulder_rules_table.md``)."""
+
+
+def reconcile(estimates: list[tuple[float, float]]) -> tuple[float, float]:
+    """Return the inverse-variance mean of independent (value, sigma) estimates and its sigma, widened by their spread.
+
+    When the estimates disagree by more than their sigmas allow, the sigma is multiplied by the Birge ratio
+    sqrt(chi^2 / (n - 1)): the spread itself says how far the estimate can be trusted.
+
+    Examples:
+        >>> reconcile([(10.0, 1.0), (10.0, 1.0)])[1] < 1.0
+        True
+        >>> round(reconcile([(10.0, 1.0), (20.0, 1.0)])[1], 2)
+        5.0
+    """
+    value = np.array([e[0] for e in estimates], float)
+    sigma = np.array([e[1] for e in estimates], float)
+    w = 1.0 / sigma ** 2
+    mean = float((w * value).sum() / w.sum())
+    out = 1.0 / math.sqrt(float(w.sum()))
+    if len(estimates) > 1:
+        chi2 = float((w * (value - mean) ** 2).sum())
+        out *= max(1.0, math.sqrt(chi2 / (len(estimates) - 1)))
+    return mean, out
+
+
+def torso_shoulder_disparity(body_disparity_px: float, shoulders_apart_px: float, near: bool, focal_px: float,
+                             baseline_m: float, head: tuple[float, float] | None = None,
+                             side_doubt: float = SHOULDER_SIDE_DOUBT,
+                             model_sigma_m: float = SHOULDER_MODEL_SIGMA_M) -> tuple[float, float]:
+    """Return the pointing shoulder's disparity (x_left - x_right, pixels) and its sigma, with the doubts measured.
+
+    ``shoulder_disparity`` for the side the pose model says (``near``) and, with probability ``side_doubt``,
+    the other (a two-way mixture: its mean and variance), with ``model_sigma_m`` of depth added; then
+    ``reconcile``d with the head's match (``head``: disparity, sigma from ``head_disparity``), which widens
+    the sigma when the body's disparity is off (a nearer object in the body's box: issue 14 session 30,
+    ``variant_9_09``, murky water, the body 10 px too near, the head within 4 px).
+    """
+    said = shoulder_disparity(body_disparity_px, shoulders_apart_px, near, focal_px, baseline_m)
+    other = shoulder_disparity(body_disparity_px, shoulders_apart_px, not near, focal_px, baseline_m)
+    p = float(side_doubt)
+    mean = (1.0 - p) * said[0] + p * other[0]
+    var = (1.0 - p) * said[1] ** 2 + p * other[1] ** 2 + p * (1.0 - p) * (said[0] - other[0]) ** 2
+    sigma = math.hypot(math.sqrt(var), mean ** 2 / (focal_px * baseline_m) * model_sigma_m)
+    return reconcile([(mean, sigma)] + ([head] if head is not None else []))
