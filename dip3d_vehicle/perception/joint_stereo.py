@@ -328,7 +328,7 @@ def _background_explains(left: np.ndarray, right: np.ndarray, left_xy: np.ndarra
     """True when the background to either side of joint ``k`` matches at its disparity at least as well as it does (pixels)."""
     along = left_xy[k] - left_xy[k - 1]
     norm = float(np.linalg.norm(along))
-    if norm < 1.0:
+    if not norm >= 1.0:             # the elbow on the wrist, or not seen (NaN): no forearm to look beside
         return False
     across = np.array([-along[1], along[0]]) / norm
     h, w = left.shape[:2]

@@ -544,3 +544,5 @@ def test_a_wrist_matched_nearer_than_its_background_is_kept():
         assert found.matched[2] and abs(found.disparity_px[2] - 36.0) < 0.5
         out = on_background(found, left, right, xy, 33.0, 1, 920.0, 0.12)
         assert out is found
+    unseen_elbow = np.array([[150.0, 100.0], [np.nan, np.nan], [300.0, 100.0]])   # no forearm to look beside
+    assert on_background(found, left, right, unseen_elbow, 33.0, 1, 920.0, 0.12) is found
