@@ -31,7 +31,17 @@ for a, b, label in ((0, 2, "wrist - shoulder"), (1, 2, "wrist - elbow"), (0, 1, 
     along = np.einsum("ij,ij->i", diff, u)
     print(f"  {label:16s} across the arm: RMS {np.sqrt(np.mean(across ** 2)):.3f} m, p90 |.| {np.percentile(np.abs(across), 90):.3f};"
           f" along: RMS {np.sqrt(np.mean(along ** 2)):.3f} m")
-for k in (0, 2):
-    c = np.corrcoef(np.einsum("ij,ij->i", off[:, 0], n), np.einsum("ij,ij->i", off[:, 2], n))[0, 1]
+c = np.corrcoef(np.einsum("ij,ij->i", off[:, 0], n), np.einsum("ij,ij->i", off[:, 2], n))[0, 1]
 print(f"  correlation of the shoulder's and wrist's offsets across the arm: {c:.2f}")
 print("  the model, independent per joint, sigma 0.05 m: across RMS", round(np.sqrt(2) * 0.05, 3))
+ppm = np.array([r["px_per_m"] for r in rows])[keep]
+across_m = np.einsum("ij,ij->i", off[:, 2] - off[:, 0], n)
+across_px = across_m * ppm
+depth = 902.5 / ppm                  # the simulator's rectified focal length, pixels
+print("wrist - shoulder across the arm, by the body's depth: frames, RMS m, p90 m, RMS px, p90 px")
+for lo, hi in ((0.0, 2.0), (2.0, 2.5), (2.5, 3.0), (3.0, 3.5), (3.5, 4.5), (4.5, 6.0), (0.0, 99.0)):
+    sel = (depth >= lo) & (depth < hi)
+    if sel.any():
+        a, p = across_m[sel], across_px[sel]
+        print(f"  {lo:.1f}-{hi:.1f} m: {sel.sum():5d}  {np.sqrt(np.mean(a ** 2)):.3f} {np.percentile(np.abs(a), 90):.3f}"
+              f"  {np.sqrt(np.mean(p ** 2)):5.1f} {np.percentile(np.abs(p), 90):5.1f}")
