@@ -58,13 +58,6 @@ MATCH_SIGMA_PX = 0.3
 """Assumed disparity error of a matched feature, pixels (SIFT on Middlebury: median error 0.1-0.3 px)."""
 
 
-def _direction_sigma_m(arm: ArmKeypoints, arm3d: Arm3D, rig: StereoRig) -> float | None:
-    """Return the arm's ``direction_sigma_px`` in metres at the shoulder's depth, or None when not given."""
-    if arm.direction_sigma_px is None:
-        return None
-    return float(arm.direction_sigma_px) * float(arm3d.xyz_m[0, 2]) / rig.focal_px
-
-
 class PointingSelector(ABC):
     """Chooses the candidate the pointing arm indicates."""
 
@@ -382,7 +375,7 @@ class DefaultSelector(PointingSelector):
         given = arm.keypoint_sigma_m
         keypoint_sigma_m = self.model.keypoint_sigma_m if given is None else float(given)
         fit = _PointingFit(rays, arm3d.xyz_m[:, 2], arm3d.depth_sigma_m, self.model, keypoint_sigma_m,
-                           None if given is None else _direction_sigma_m(arm, arm3d, rig))
+                           None if given is None else arm.direction_sigma_m)
         points = [xyz_m[list(o.members)] for o in objects]
         shapes = np.stack([object_shape(pts, o.xyz_m) for pts, o in zip(points, objects)])
         allowed = image_gate(arm, objects, [candidates.left_px[list(o.members)] for o in objects], rig, arm3d,
