@@ -358,7 +358,6 @@ class BlazePoseEstimator(PoseEstimator):
                  stereo_search: str = "roi", max_disparity_px: float = 400.0,
                  joint_disparity: str = "landmarks", concurrent_eyes: bool = False,
                  disparity_floor_px: float = 1.5, keypoint_sigma_m: float | None = None,
-                 direction_sigma_m: float | None = None,
                  limbs_m: tuple[tuple[float, float], tuple[float, float]] | None = None) -> None:
         """Wrap a ``BlazePose``; ``stereo_search`` is "roi" (search along rows) or "detect".
 
@@ -383,9 +382,7 @@ class BlazePoseEstimator(PoseEstimator):
         sequential search waits for this frame's); any failure falls back to the sequential path.
 
         ``keypoint_sigma_m``: the landmarks' own error at the body (metres), carried by every arm
-        for the selector (``ArmKeypoints.keypoint_sigma_m``); ``direction_sigma_m``: the part of it that
-        turns the arm's direction, the wrist's offset from the shoulder across the arm
-        (``ArmKeypoints.direction_sigma_m``).
+        for the selector (``ArmKeypoints.keypoint_sigma_m``).
 
         ``limbs_m``: the plausible (shortest, longest) upper arm and forearm, metres; with "stereo", an
         elbow / wrist match that makes a limb impossible is dropped (``joint_stereo.limb_switches``).
@@ -408,7 +405,6 @@ class BlazePoseEstimator(PoseEstimator):
         self.concurrent_eyes = bool(concurrent_eyes)
         self.disparity_floor_px = float(disparity_floor_px)
         self.keypoint_sigma_m = None if keypoint_sigma_m is None else float(keypoint_sigma_m)
-        self.direction_sigma_m = None if direction_sigma_m is None else float(direction_sigma_m)
         self.limbs_m = limbs_m
         self._body_disparity_px: float | None = None
         self._side: tuple[PoseLandmarks, str] | None = None   # with "auto": the last left pose's arm
@@ -425,8 +421,7 @@ class BlazePoseEstimator(PoseEstimator):
                    joint_disparity=params.get("blazepose.joint_disparity", "landmarks"),
                    concurrent_eyes=params.get("blazepose.concurrent_eyes", False),
                    disparity_floor_px=params.get("blazepose.disparity_floor_px", 1.5),
-                   keypoint_sigma_m=params.get("blazepose.keypoint_sigma_m"),
-                   direction_sigma_m=params.get("blazepose.direction_sigma_m"), limbs_m=limb_spans_m(params))
+                   keypoint_sigma_m=params.get("blazepose.keypoint_sigma_m"), limbs_m=limb_spans_m(params))
 
     def reset(self) -> None:
         """Forget both cameras' tracking state (and, with ``arm="auto"``, the last frame's arm)."""
@@ -508,8 +503,7 @@ class BlazePoseEstimator(PoseEstimator):
         side = self.arm_of(left)
         lxy, lconf = left.arm(side)
         return ArmKeypoints(side, lxy, rxy, lconf, rconf, source="blazepose", extra_left_px=_extra(left, side),
-                            disparity_sigma_px=sigma, keypoint_sigma_m=self.keypoint_sigma_m,
-                            direction_sigma_m=self.direction_sigma_m)
+                            disparity_sigma_px=sigma, keypoint_sigma_m=self.keypoint_sigma_m)
 
     def stereo_joints(self, left_rect: np.ndarray, right_rect: np.ndarray, left: PoseLandmarks,
                       rig: StereoRig) -> JointDisparity | None:

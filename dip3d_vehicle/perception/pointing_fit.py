@@ -63,20 +63,18 @@ class _PointingFit:
     """
 
     def __init__(self, rays: np.ndarray, depth_m: np.ndarray, depth_sigma_m: np.ndarray, model: ArmModel,
-                 keypoint_sigma_m: float = 0.0, direction_sigma_m: float | None = None) -> None:
+                 keypoint_sigma_m: float = 0.0) -> None:
         self.rays, self.depth_m, self.sigma = rays, depth_m, np.maximum(depth_sigma_m, 0.01)
         self.model = model
         self._arm_cost: float | None = None
         # a joint placed keypoint_sigma_m off its centre, across the ray (the pose model's own error at the
-        # body): each limb's length and the arm's bend are known no better than that; its direction no better
-        # than the wrist's offset from the shoulder across the arm (direction_sigma_m, when measured) over the
-        # arm's length
+        # body): each limb's length and the arm's bend are known no better than that, its direction no
+        # better than that over the arm's length
         lateral = math.sqrt(2.0) * max(float(keypoint_sigma_m), 0.0)
         self.length_sigma_m = math.hypot(model.length_sigma_m, lateral)
         self.straightness_sigma_m = math.hypot(model.straightness_sigma_m, keypoint_sigma_m)
         arm_m = 0.5 * (sum(model.forearm_m) + sum(model.upperarm_m))
-        across = lateral if direction_sigma_m is None else max(float(direction_sigma_m), 0.0)
-        self.pointing_sigma_rad = math.hypot(model.pointing_sigma_rad, across / arm_m)
+        self.pointing_sigma_rad = math.hypot(model.pointing_sigma_rad, lateral / arm_m)
 
     def arm_terms(self, x: np.ndarray, joints: np.ndarray | None = None, u: np.ndarray | None = None
                   ) -> tuple[np.ndarray, ...]:

@@ -374,8 +374,7 @@ class DefaultSelector(PointingSelector):
         rays = _rays(joints_px, rig)
         given = arm.keypoint_sigma_m
         keypoint_sigma_m = self.model.keypoint_sigma_m if given is None else float(given)
-        fit = _PointingFit(rays, arm3d.xyz_m[:, 2], arm3d.depth_sigma_m, self.model, keypoint_sigma_m,
-                           None if given is None else arm.direction_sigma_m)
+        fit = _PointingFit(rays, arm3d.xyz_m[:, 2], arm3d.depth_sigma_m, self.model, keypoint_sigma_m)
         points = [xyz_m[list(o.members)] for o in objects]
         shapes = np.stack([object_shape(pts, o.xyz_m) for pts, o in zip(points, objects)])
         allowed = image_gate(arm, objects, [candidates.left_px[list(o.members)] for o in objects], rig, arm3d,

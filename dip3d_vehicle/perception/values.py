@@ -43,10 +43,6 @@ class ArmKeypoints:
             where the estimator places a joint and the joint's centre: a pose model's landmark
             definition and bias, systematic over the frames of one pose (it does not average);
             None = none beyond ``selection.keypoint_sigma_px`` (truth + noise, keypoints files).
-        direction_sigma_m: optional one-sigma offset (metres, at the body) of the wrist's placement relative to the
-            shoulder's, across the arm: the part of ``keypoint_sigma_m`` that turns the arm's image direction (a pose
-            model's errors along the arm and shared by both joints do not); None = sqrt(2) x ``keypoint_sigma_m``,
-            as for independent errors.
         disparity_matched: optional (3,) bool: joints whose disparity was measured by matching the
             left joint's image patch along its rectified row (``joint_stereo.match_arm``); their
             ``disparity_sigma_px`` is the match's own and is used as it is, not raised to the
@@ -63,7 +59,6 @@ class ArmKeypoints:
     disparity_sigma_px: np.ndarray | None = None
     keypoint_sigma_m: float | None = None
     disparity_matched: np.ndarray | None = None
-    direction_sigma_m: float | None = None
 
     def joint(self, name: str, side: str = "left") -> np.ndarray:
         """Return one joint's (x, y) in the rectified ``side`` image, pixels."""

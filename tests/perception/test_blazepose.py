@@ -191,8 +191,7 @@ def test_stereo_joints_skip_the_right_landmark_run(pose, photos, disparity):
     folder, _ = photos
     left = cv2.imread(str(folder / "000000000785.jpg"))
     right = np.ascontiguousarray(np.roll(left, -disparity, axis=1))
-    est = BlazePoseEstimator(pose, stereo_search="roi", tracking=True, joint_disparity="stereo", keypoint_sigma_m=0.05,
-                             direction_sigma_m=0.056)
+    est = BlazePoseEstimator(pose, stereo_search="roi", tracking=True, joint_disparity="stereo", keypoint_sigma_m=0.05)
     rig = _rig(left.shape[1], left.shape[0])
     heard = []
     est.set_early_arm_listener(heard.append)
@@ -203,7 +202,6 @@ def test_stereo_joints_skip_the_right_landmark_run(pose, photos, disparity):
     assert est.stats.matched == 2 and est.stats.searched == 0 and len(heard) == 2
     assert arm.disparity_sigma_px is not None and np.array_equal(arm.right_conf, arm.left_conf)
     assert arm.keypoint_sigma_m == 0.05, "the landmarks' own error goes with the matched arm too"
-    assert arm.direction_sigma_m == 0.056
     assert np.allclose(arm.right_px[:, 1], arm.left_px[:, 1])
     assert np.allclose(arm.left_px[1:, 0] - arm.right_px[1:, 0], disparity, atol=1.5)  # elbow, wrist matched
 

@@ -340,26 +340,6 @@ def test_a_pose_models_own_landmark_error_keeps_a_far_foreshortened_arm_from_bei
             assert float(np.max(sel.scores)) < 0.5
 
 
-@pytest.mark.parametrize("evidence", ["laplace", "sampled"])
-def test_a_pose_models_direction_error_sharpens_the_pointing_but_no_wrong_placard_wins_at_5_m(evidence):
-    """With the part of the landmark error that turns the arm (``direction_sigma_m``, BlazePose's wrist offset
-    from the shoulder across the arm: 0.056 m against sqrt(2) x 0.05 m for independent joints), the pointed
-    placard of the 5 m scene gets more probability, never less, and still no wrong placard is more likely
-    than not; the exact keypoints remain the surest."""
-    import dataclasses
-
-    sets = {"selection.evidence": evidence}
-    for k, target in enumerate(("p1", "p2", "p3")):
-        arm, pts = _far_diver_scene(target)
-        exact, _, _ = _select(arm, pts, **sets)
-        loose, _, _ = _select(dataclasses.replace(arm, keypoint_sigma_m=0.05), pts, **sets)
-        sharp, _, _ = _select(dataclasses.replace(arm, keypoint_sigma_m=0.05, direction_sigma_m=0.056), pts, **sets)
-        assert sharp.index == k and loose.scores[k] <= sharp.scores[k] <= exact.scores[k] + 1e-9
-        assert float(np.max(np.delete(sharp.scores, k))) < 0.5
-    unmeasured, _, _ = _select(dataclasses.replace(arm, keypoint_sigma_m=0.05, direction_sigma_m=None), pts, **sets)
-    assert np.allclose(unmeasured.scores, loose.scores), "None: sqrt(2) x keypoint_sigma_m, as before"
-
-
 def test_a_pose_models_own_landmark_error_barely_matters_for_an_arm_seen_at_full_length():
     """The paper's range, the arm across the view: the object on the ray still wins clearly."""
     import dataclasses
