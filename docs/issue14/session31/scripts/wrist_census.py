@@ -12,13 +12,9 @@ outside the limb: beyond the joint along the limb, and to both sides of it. Each
 """
 import json, math, sys
 import numpy as np
-from dip3d_vehicle.config import load_params
-from dip3d_vehicle.perception.blazepose import BlazePoseEstimator, JOINT_PATCH_M, body_disparity
-from dip3d_vehicle.perception.joint_stereo import match_point, reach_disparities, score_at
-from dip3d_vehicle.perception.keypoints_file import GivenKeypoints
-from sitl.scenario import load_scenario
-from sitl.simulation import sim_params
-from sitl.render import StereoRenderer
+from census_frames import census_args, held_frames
+from dip3d_vehicle.perception.blazepose import JOINT_PATCH_M, body_disparity
+from dip3d_vehicle.perception.joint_stereo import match_point, patch_half_px, reach_disparities, score_at
 
 PROBES_M = {"beyond": (0.25, 0.0), "side_a": (0.0, 0.11), "side_b": (0.0, -0.11),
             "beyond_a": (0.15, 0.12), "beyond_b": (0.15, -0.12)}
@@ -44,52 +40,27 @@ def probes(L, R, xy, k, body, sign, rig, d_lo, d_hi, half, joint_d):
     return out
 
 
-out, names, seeds = sys.argv[1], sys.argv[2].split(","), sys.argv[3]
-a, b = (int(x) for x in seeds.split("-")) if "-" in seeds else (int(seeds), int(seeds))
-step = float(sys.argv[4]) if len(sys.argv) > 4 else 0.6
+out, names, seeds, step = census_args(sys.argv)
 with open(out, "w") as fh:
-    for name in names:
-        for seed in range(a, b + 1):
-            sc = load_scenario(name, seed)
-            params = sim_params(load_params(), sc, **{"sitl.pose_source": "blazepose"})
-            rig = sc.rig(params["calib.alpha"])
-            sign = rig.disparity_sign
-            fb = rig.focal_px * rig.baseline_m
-            est = BlazePoseEstimator.from_params(params)
-            truth_pose = GivenKeypoints(sc.diver.arm)
-            v = sc.initial_vehicle_pose
-            d = sc.diver
-            with StereoRenderer(sc, params) as r:
-                t = d.start_s
-                while t < d.start_s + d.hold_s:
-                    fr = r.render(v.north_m, v.east_m, v.depth_m, v.yaw_rad, t)
-                    t += step
-                    if d.raised_fraction(t - step) < 0.99 or fr.meta["keypoints_truth"] is None:
-                        continue
-                    L, R = rig.rectify_image(fr.left, "left"), rig.rectify_image(fr.right, "right")
-                    arm = est.estimate(L, R, rig)
-                    lm = est.last[0]
-                    if arm is None or lm is None:
-                        continue
-                    truth_pose.provide(fr.meta["keypoints_truth"])
-                    tr = truth_pose.estimate(L, R, rig)
-                    body = body_disparity(L, R, lm, sign, est.max_disparity_px)
-                    if body is None:
-                        continue
-                    js = est.stereo_joints(L, R, lm, rig)
-                    d_lo, d_hi = reach_disparities(sign * body, fb)
-                    depth = fb / abs(body)
-                    half = int(np.clip(round(0.5 * JOINT_PATCH_M * rig.focal_px / depth), 4, 24))
-                    xy = arm.left_px
-                    row = {"scenario": name, "seed": seed, "t": round(t - step, 2), "side": est.arm_of(lm),
-                           "true_side": sc.diver.arm, "body_px": round(sign * body, 3), "fb": fb, "half": half,
-                           "err2d_px": np.linalg.norm(xy - tr.left_px, axis=1).round(1).tolist(),
-                           "true_d_px": (tr.left_px[:, 0] - tr.right_px[:, 0]).round(3).tolist(),
-                           "d_px": js.disparity_px.round(3).tolist(), "sigma_px": js.sigma_px.round(3).tolist(),
-                           "matched": js.matched.tolist(), "score": [None if not math.isfinite(s) else round(float(s), 3) for s in js.score],
-                           "final_sigma_px": None if arm.disparity_sigma_px is None else arm.disparity_sigma_px.round(3).tolist(),
-                           "turbidity": float(sc.water.turbidity_per_m)}
-                    for k in (1, 2):
-                        row[f"probes_{k}"] = probes(L, R, xy, k, body, sign, rig, d_lo, d_hi, half, js.disparity_px[k])
-                    fh.write(json.dumps(row) + "\n")
-                    fh.flush()
+    for f in held_frames(names, seeds, step):
+        sign, fb = f.rig.disparity_sign, f.rig.focal_px * f.rig.baseline_m
+        body = body_disparity(f.left, f.right, f.landmarks, sign, f.est.max_disparity_px)
+        if body is None:
+            continue
+        js = f.est.stereo_joints(f.left, f.right, f.landmarks, f.rig)
+        d_lo, d_hi = reach_disparities(sign * body, fb)
+        half = patch_half_px(body, f.rig.baseline_m, JOINT_PATCH_M)
+        xy, tr = f.arm.left_px, f.truth
+        row = {"scenario": f.scenario, "seed": f.seed, "t": round(f.t_s, 2), "side": f.est.arm_of(f.landmarks),
+               "true_side": f.sc.diver.arm, "body_px": round(sign * body, 3), "fb": fb, "half": half,
+               "err2d_px": np.linalg.norm(xy - tr.left_px, axis=1).round(1).tolist(),
+               "true_d_px": (tr.left_px[:, 0] - tr.right_px[:, 0]).round(3).tolist(),
+               "d_px": js.disparity_px.round(3).tolist(), "sigma_px": js.sigma_px.round(3).tolist(),
+               "matched": js.matched.tolist(),
+               "score": [None if not math.isfinite(s) else round(float(s), 3) for s in js.score],
+               "final_sigma_px": None if f.arm.disparity_sigma_px is None else f.arm.disparity_sigma_px.round(3).tolist(),
+               "turbidity": float(f.sc.water.turbidity_per_m)}
+        for k in (1, 2):
+            row[f"probes_{k}"] = probes(f.left, f.right, xy, k, body, sign, f.rig, d_lo, d_hi, half, js.disparity_px[k])
+        fh.write(json.dumps(row) + "\n")
+        fh.flush()
