@@ -205,44 +205,41 @@ class TargetTracker:
             matched |= self._matched_features(self._latest, candidates.descriptors)
         since = stamp_s - (self.last_seen_s if self.last_seen_s is not None else stamp_s)
         gate = min(c.gate_m + c.gate_growth_m_s * max(since, 0.0), c.gate_max_m)
+        counts = [int(np.count_nonzero(matched[list(obj.members)])) for obj in objects]
+        distances = [float(np.linalg.norm(obj.xyz_m - predicted)) for obj in objects]
         best, best_key, best_count = None, (0, 0), 0
-        for obj in objects:
-            members = list(obj.members)
-            count, anchored = int(np.count_nonzero(matched[members])), int(np.count_nonzero(first[members]))
+        for obj, count, distance in zip(objects, counts, distances):
+            anchored = int(np.count_nonzero(first[list(obj.members)]))
             # identity is anchored on the first sighting: the latest model only adds support, so one
             # wrong acceptance cannot carry the track over to a neighbouring object
-            if count < c.min_matches or anchored < _anchor_matches(c.min_matches) \
-                    or float(np.linalg.norm(obj.xyz_m - predicted)) > gate:
+            if count < c.min_matches or anchored < _anchor_matches(c.min_matches) or distance > gate:
                 continue
             if (anchored, count) > best_key:
                 best, best_key, best_count = obj, (anchored, count), count
         if best is None:
-            best, best_count = self._near_and_alone(objects, matched, predicted, gate)
+            best, best_count = self._near_and_alone(objects, counts, distances, gate)
         if best is None:
             return None
         return TrackedTarget(np.asarray(best.left_px, float), np.asarray(best.xyz_m, float), best_count,
                              stamp_s, best)
 
-    def _near_and_alone(self, objects: list[ObjectCandidate], matched: np.ndarray, predicted: np.ndarray,
+    def _near_and_alone(self, objects: list[ObjectCandidate], counts: list[int], distances_m: list[float],
                         gate_m: float) -> tuple[ObjectCandidate | None, int]:
         """Return the one object of the gate, if it lies within ``near_m`` of the prediction and matches the model.
 
         A small, faint target (a few features, found by the pointing corridor) often shares only one or two
         descriptors with its model from one frame to the next, under the count the identity test asks. Its
         position then identifies it, as long as nothing else is in the gate: the only object within ``gate_m``,
-        within ``near_m`` (metres) of the prediction, with at least one feature matching the model.
-        Only while the target was seen in one of the last two frames: after a longer gap the prediction is dead
-        reckoning (the nod's swing drifts by decimetres) and may sit on another object.
+        within ``near_m`` (metres) of the prediction (``distances_m``), with at least one feature matching the
+        model (``counts``). Only while the target was seen in one of the last two frames: after a longer gap the
+        prediction is dead reckoning (the nod's swing drifts by decimetres) and may sit on another object.
         """
         if self.misses > 1:
             return None, 0
-        inside = [(float(np.linalg.norm(o.xyz_m - predicted)), o) for o in objects]
-        inside = [(d, o) for d, o in inside if d <= gate_m]
-        if len(inside) != 1 or inside[0][0] > self.config.near_m:
+        inside = [k for k, d in enumerate(distances_m) if d <= gate_m]
+        if len(inside) != 1 or distances_m[inside[0]] > self.config.near_m or counts[inside[0]] < 1:
             return None, 0
-        obj = inside[0][1]
-        count = int(np.count_nonzero(matched[list(obj.members)]))
-        return (obj, count) if count >= 1 else (None, 0)
+        return objects[inside[0]], counts[inside[0]]
 
     def _matched_features(self, model: np.ndarray, frame_desc: np.ndarray) -> np.ndarray:
         """Return a boolean per frame feature: it matches a model descriptor (ratio test)."""
