@@ -199,14 +199,21 @@ def score_at(left: np.ndarray, right: np.ndarray, x: int, y: int, disparity_px: 
     return float(_scores_along_row(template, right, y, xa, xb, half).max())
 
 
+MATCH_MIN_SCORE = 0.6
+"""The least NCC score a joint's patch match counts with (``joint_disparities``, the wrist's background probes)."""
+
+MATCH_LR_TOLERANCE_PX = 1.5
+"""How far (pixels) the right patch found back in the left image may land from the joint for the match to count."""
+
+
 def patch_half_px(body_disparity_px: float, baseline_m: float, patch_m: float) -> int:
     """Return the half side (pixels, 4-24) of a patch ``patch_m`` wide at the body's depth (disparity ``body_disparity_px``)."""
     return int(np.clip(round(0.5 * patch_m * abs(body_disparity_px) / baseline_m), 4, 24))
 
 
 def joint_disparities(left: np.ndarray, right: np.ndarray, left_xy: np.ndarray, body_disparity_px: float,
-                      sign: int, focal_px: float, baseline_m: float, patch_m: float = 0.12, min_score: float = 0.6,
-                      lr_tolerance_px: float = 1.5) -> JointDisparity:
+                      sign: int, focal_px: float, baseline_m: float, patch_m: float = 0.12,
+                      min_score: float = MATCH_MIN_SCORE, lr_tolerance_px: float = MATCH_LR_TOLERANCE_PX) -> JointDisparity:
     """Return the joints' disparities by matching each left joint's patch along its rectified row.
 
     The search covers the disparities of depths within ``ARM_REACH_M`` of the body's (from
@@ -336,7 +343,8 @@ def _background_explains(left: np.ndarray, right: np.ndarray, left_xy: np.ndarra
         x, y = (int(round(c)) for c in left_xy[k] + side * BACKGROUND_SIDE_M * px_per_m * across)
         if not (half <= x < w - half and half <= y < h - half):
             continue
-        probe = match_point(left, right, x, y, d_span[0], d_span[1], sign, half, 0.6, 1.5)
+        probe = match_point(left, right, x, y, d_span[0], d_span[1], sign, half, MATCH_MIN_SCORE,
+                            MATCH_LR_TOLERANCE_PX)
         if (probe is not None and abs(probe[0] - abs(found.disparity_px[k])) <= BACKGROUND_SAME_PX
                 and probe[2] >= found.score[k]):
             return True
