@@ -32,7 +32,7 @@ from .joint_stereo import (JOINT_FLOOR_FACTOR, LIMB_SLACK_M, JointDisparity, in_
                            subpixel_peak as _subpixel, unmatched_sigma_px)
 from .pointing_arm import AUTO, pointing_arm
 from .pose import ARM_INDICES, PoseEstimator
-from .shoulder_model import torso_shoulder_disparity
+from .shoulder_model import ShoulderOrder, torso_shoulder_disparity
 from .values import ArmKeypoints
 
 __all__ = ["BlazePose", "BlazePoseEstimator", "Detection", "PoseLandmarks", "Contrast",
@@ -371,7 +371,8 @@ class BlazePoseEstimator(PoseEstimator):
         wrist's left patches matched along their rows within the depths an arm reaches from the
         body (``joint_stereo.joint_disparities``) and the shoulder placed from the torso (the body's
         disparity, half a shoulder width nearer or farther by the torso's turn,
-        ``shoulder_model.torso_shoulder_disparity``, which doubts the pose model's shoulder order and checks
+        ``shoulder_model.torso_shoulder_disparity``, which doubts the pose model's shoulder order by how often it
+        changed over the latest frames, ``shoulder_model.ShoulderOrder``, and checks
         the body's disparity against the head's match): the right landmarks are not used for depth, and the
         arm carries each joint's disparity sigma (its own, at least ``disparity_floor_px``), which
         the pipeline turns into the joints' depth sigma for the selector.
@@ -408,6 +409,7 @@ class BlazePoseEstimator(PoseEstimator):
         self.limbs_m = limbs_m
         self._body_disparity_px: float | None = None
         self._side: tuple[PoseLandmarks, str] | None = None   # with "auto": the last left pose's arm
+        self._order = ShoulderOrder()   # the shoulders' depth order over the latest frames
         self.stats = StereoStats()
         self.last: tuple[PoseLandmarks | None, PoseLandmarks | None] = (None, None)
         self._left, self._right = _Track(), _Track()
@@ -427,6 +429,7 @@ class BlazePoseEstimator(PoseEstimator):
         """Forget both cameras' tracking state (and, with ``arm="auto"``, the last frame's arm)."""
         self._left, self._right = _Track(), _Track()
         self._side = None
+        self._order.reset()
 
     def arm_of(self, left: PoseLandmarks) -> str:
         """Return the arm read from a left pose: ``arm``, or with "auto" the one pointing (``pointing_arm``)."""
@@ -522,7 +525,8 @@ class BlazePoseEstimator(PoseEstimator):
         apart = float(np.linalg.norm(left.xy_px[11] - left.xy_px[12]))
         head = head_disparity(_extra(left, side).get("head"), left_rect, right_rect, sign * body, sign, rig.focal_px,
                               rig.baseline_m)
-        d, sd = torso_shoulder_disparity(sign * body, apart, bool(near), rig.focal_px, rig.baseline_m, head)
+        d, sd = torso_shoulder_disparity(sign * body, apart, bool(near), rig.focal_px, rig.baseline_m, head,
+                                         side_doubt=self._order.doubt(bool(near)))
         torso = float(np.linalg.norm(left.xy_px[[11, 12]].mean(axis=0) - left.xy_px[[23, 24]].mean(axis=0)))
         found = in_front_of_body(found, xy, left.xy_px[list(_BODY)], torso, sign * body, rig.focal_px, rig.baseline_m,
                                  JOINT_PATCH_M)
