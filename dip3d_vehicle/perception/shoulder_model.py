@@ -78,9 +78,10 @@ class ShoulderOrder:
     some frames and far in others is guessing: the doubt of a frame's order is the share of the recent frames
     (this one included) that said the other, never below ``floor`` (the measured rate of a steady wrong order)
     nor above 1 - ``floor``. Measured (issue 14 session 32, ``docs/issue14/session32/scripts/order_rule.py`` on
-    session 30's census: BlazePose on 4469 built-in and 1719 variant frames): the shoulder's |error / sigma| p50 in
-    ``variant_9_03`` (the order wrong in 68 of 100 frames) falls from 1.79 to 0.69 with 8 frames of history; the
-    built-ins, where the order is wrong in 2 frames, are unchanged.
+    session 30's census, BlazePose on 4469 built-in and 1719 variant frames 0.6 s apart, the history taken over the
+    census frames of each run): with 12 frames the shoulder's |error / sigma| in ``variant_9_03`` (the order wrong in
+    68 of 100 frames) falls from 1.79 / 2.67 to 0.61 / 1.68 (p50 / p90), over all variants p90 1.65 -> 1.44; the
+    built-ins, where the order is wrong in 2 frames, are unchanged (0.84 / 1.35).
     """
 
     def __init__(self, frames: int = SHOULDER_ORDER_FRAMES, floor: float = SHOULDER_SIDE_DOUBT) -> None:

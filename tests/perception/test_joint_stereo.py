@@ -126,6 +126,31 @@ def test_the_torso_shoulder_doubts_the_pose_models_shoulder_order_and_a_body_dis
     assert off_sigma > 2.0 and abs(off - said) < 3.0 * off_sigma
 
 
+def test_a_shoulder_order_that_keeps_changing_is_doubted_and_the_shoulder_lies_between_the_two_sides():
+    from dip3d_vehicle.perception.shoulder_model import (SHOULDER_SIDE_DOUBT, ShoulderOrder, shoulder_disparity,
+                                                         torso_shoulder_disparity)
+
+    f, b = 920.0, 0.12
+    body = f * b / 3.0                          # torso centre 3 m away, seen side on
+    said, _ = shoulder_disparity(body, 5.0, True, f, b)
+    other, _ = shoulder_disparity(body, 5.0, False, f, b)
+    steady, flipping = ShoulderOrder(), ShoulderOrder()
+    for k in range(12):
+        steady_doubt = steady.doubt(True)
+        flipping_doubt = flipping.doubt(k % 2 == 0)   # a pose model reading the diver from the front, then the back
+    assert steady_doubt == SHOULDER_SIDE_DOUBT and 0.45 <= flipping_doubt <= 0.55
+    d_steady, s_steady = torso_shoulder_disparity(body, 5.0, False, f, b, side_doubt=steady_doubt)
+    d_flip, s_flip = torso_shoulder_disparity(body, 5.0, False, f, b, side_doubt=flipping_doubt)
+    assert abs(d_flip - 0.5 * (said + other)) < 0.15 * (said - other) and s_flip > 1.5 * s_steady
+    # the majority order wins: a lone frame against eleven is itself doubted
+    lone = ShoulderOrder()
+    for _ in range(11):
+        lone.doubt(True)
+    assert lone.doubt(False) > 0.9
+    lone.reset()
+    assert lone.doubt(False) == SHOULDER_SIDE_DOUBT
+
+
 def test_the_shoulder_models_examples_hold():
     import doctest
 
