@@ -92,6 +92,7 @@ class BehaviourConfig:
     fusion_arm_frames: int = 4
     fusion_min_shared_posterior: float = 0.5
     fusion_shared_rule: str = "always"
+    fusion_min_pose_shared_posterior: float = 0.5
     second_look_max_tries: int = 1
     second_look_step_m: float = 0.4
     second_look_speed_m_s: float = 0.15

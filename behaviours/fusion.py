@@ -197,6 +197,8 @@ class PointFusion:
         max_effective_frames: the most independent frames the whole point may count as.
         min_shared_posterior: a point whose frames share one error (``shared_error``) needs this
             posterior with its frames counted as one.
+        min_pose_shared_posterior: the same when the frames' arms carry a pose model's own landmark error
+            (``pose_error``), which every frame of the held pose repeats too (the higher of the two applies).
         shared_rule: "always" (every point: the diver's pointing error) or "pose_model" (only frames
             whose arms carry ``keypoint_sigma_m``).
 
@@ -211,6 +213,7 @@ class PointFusion:
     max_effective_frames: float = 4.0
     min_shared_posterior: float = 0.5
     shared_rule: str = "always"
+    min_pose_shared_posterior: float = 0.5
     shared_error: bool = False
     pose_error: bool = False
     direction: np.ndarray | None = None
@@ -329,10 +332,10 @@ class PointFusion:
         if led < min_led:
             why = f"{best} led {led} of {n} frames (< {min_led})"
             return FusedDecision("undecided", None, post, best, second, n, why, one, looked)
-        if self.shared_error and best != NONE and one < self.min_shared_posterior:
+        need = max(self.min_shared_posterior, self.min_pose_shared_posterior if self.pose_error else 0.0)
+        if self.shared_error and best != NONE and one < need:
             cause = "the pose model's and the diver's pointing error" if self.pose_error else "the diver's pointing error"
-            why = (f"{best} {one:.2f} < {self.min_shared_posterior:g} with the {n} frames counted as one "
-                   f"(they share {cause})")
+            why = f"{best} {one:.2f} < {need:g} with the {n} frames counted as one (they share {cause})"
             return FusedDecision("undecided", None, post, best, second, n, why, one, looked)
         looks = f"{one:.2f} counted as one look"
         if best == NONE:

@@ -35,7 +35,8 @@ def _fuse_frame(bb: Blackboard, result, direction) -> FrameEvidence | None:
     if bb.fusion is None:
         bb.fusion = PointFusion(c.vote_radius_m, c.fusion_temper, c.fusion_floor_p, c.fusion_no_objects_none_p,
                                 c.fusion_max_effective_frames, c.fusion_min_shared_posterior,
-                                shared_rule=c.fusion_shared_rule)
+                                shared_rule=c.fusion_shared_rule,
+                                min_pose_shared_posterior=c.fusion_min_pose_shared_posterior)
     fusion = bb.fusion
     if direction is not None and fusion.direction is not None:
         mean = fusion.direction / max(float(np.linalg.norm(fusion.direction)), 1e-9)
