@@ -187,6 +187,32 @@ def test_a_clear_point_of_truth_pose_frames_still_wins_with_the_shared_rule():
         PointFusion(0.3, shared_rule="sometimes")
 
 
+def test_a_pose_models_frames_can_be_asked_for_a_firmer_single_look_than_truth_pose_frames():
+    """Issue 14: BlazePose's landmark bias is repeated by every frame of a held pose, like the diver's pointing
+    error; ``min_pose_shared_posterior`` applies to such frames only, the higher of the two guards."""
+    import dataclasses
+
+    lean = ({1.0: 0.56, 2.0: 0.25}, 0.19)   # a steady 0.56 lean: passes 0.5, not 0.6
+
+    def pose_frame():
+        r = _frame(*lean)
+        return dataclasses.replace(r, arm=dataclasses.replace(r.arm, keypoint_sigma_m=0.05))
+
+    truth, pose, strict_truth = (PointFusion(0.3, min_pose_shared_posterior=0.6) for _ in range(3))
+    for _ in range(20):
+        truth.add(_frame(*lean), 0.0)
+        pose.add(pose_frame(), 0.0)
+    assert truth.decide(0.9, 3).kind == "object" and not truth.pose_error
+    d = pose.decide(0.9, 3)
+    assert pose.pose_error and d.kind == "undecided" and "< 0.6" in d.reason and "pose model" in d.reason
+    assert abs(d.one_look - truth.decide(0.9, 3).one_look) < 1e-9   # the same lean, only the guard differs
+    assert PointFusion(0.3).min_pose_shared_posterior == PointFusion(0.3).min_shared_posterior  # default: no change
+    strict_truth.min_shared_posterior = 0.7
+    for _ in range(20):
+        strict_truth.add(_frame(*lean), 0.0)
+    assert strict_truth.decide(0.9, 3).kind == "undecided"   # the higher guard applies
+
+
 def test_the_mission_does_not_drive_on_a_steady_lean_but_does_on_a_clear_point(rig):
     m = engaged_mission(rig, **{"behaviour.vote_frames": 4, "behaviour.min_votes": 3,
                                 "behaviour.second_look_max_tries": 0, "behaviour.close_in_max_tries": 0})
