@@ -7,19 +7,13 @@ Rules: G the fixed 5 % doubt (session 30); I N: the doubt is the share of the la
 """
 import collections, gzip, json, math, sys
 import numpy as np
-sys.path.insert(0, "docs/issue14/session30/scripts")
+from dip3d_vehicle.perception.shoulder_model import reconcile as combine   # the head check, as the estimator does
 rows = [json.loads(l) for f in sys.argv[1:] for l in gzip.open(f, "rt")]
 def torso(r, floor_m, p):
     (dn, sn), (df, sf) = r["model_near"], r["model_far"]
     mean = (1 - p) * dn + p * df
     var = (1 - p) * sn ** 2 + p * sf ** 2 + p * (1 - p) * (dn - df) ** 2
     return mean, math.hypot(math.sqrt(var), mean ** 2 / r["fb"] * floor_m)
-def combine(ests):
-    d = np.array([e[0] for e in ests]); s = np.array([e[1] for e in ests]); w = 1 / s ** 2
-    m = (w * d).sum() / w.sum(); sc = 1 / math.sqrt(w.sum())
-    if len(ests) > 1:
-        sc *= max(1.0, math.sqrt(((d - m) ** 2 * w).sum() / (len(ests) - 1)))
-    return m, sc
 head = lambda r: [tuple(r["head"])] if r["head"] else []
 seqs = collections.defaultdict(list)
 for r in rows:
