@@ -13,8 +13,8 @@ from collections import deque
 
 import numpy as np
 
-__all__ = ["SHOULDER_WIDTH_M", "SHOULDER_MODEL_SIGMA_M", "SHOULDER_SIDE_DOUBT", "SHOULDER_ORDER_FRAMES", "ShoulderOrder",
-           "shoulder_disparity", "reconcile", "torso_shoulder_disparity"]
+__all__ = ["SHOULDER_WIDTH_M", "SHOULDER_MODEL_SIGMA_M", "SHOULDER_SIDE_DOUBT", "SHOULDER_ORDER_FRAMES",
+           "ShoulderOrder", "shoulder_disparity", "reconcile", "torso_shoulder_disparity"]
 
 
 SHOULDER_WIDTH_M = (0.38, 0.03)
@@ -67,8 +67,8 @@ with 0.1 it is 0.47 / 0.98, too wide (``docs/issue14/session30/census/shoulder_r
 
 
 SHOULDER_ORDER_FRAMES = 12
-"""How many of the pose model's latest frames (about 3 s of decision frames) ``ShoulderOrder`` weighs the shoulders'
-depth order over."""
+"""How many of the pose model's latest frames ``ShoulderOrder`` weighs the shoulders' depth order over (about 2.5 s at
+the simulator's 5 Hz camera, longer where the pose model misses frames)."""
 
 
 class ShoulderOrder:
