@@ -129,6 +129,7 @@ class BlazePoseEstimator(PoseEstimator):
         self._body_disparity_px: float | None = None
         self._side: tuple[PoseLandmarks, str] | None = None   # with "auto": the last left pose's arm
         self._order = ShoulderOrder()   # the shoulders' depth order over the latest frames
+        self._order_of: tuple[PoseLandmarks, float] | None = None   # the last left pose's doubt of that order
         self.stats = StereoStats()
         self.last: tuple[PoseLandmarks | None, PoseLandmarks | None] = (None, None)
         self._left, self._right = _Track(), _Track()
@@ -149,6 +150,7 @@ class BlazePoseEstimator(PoseEstimator):
         self._left, self._right = _Track(), _Track()
         self._side = None
         self._order.reset()
+        self._order_of = None
 
     def arm_of(self, left: PoseLandmarks) -> str:
         """Return the arm read from a left pose: ``arm``, or with "auto" the one pointing (``pointing_arm``)."""
@@ -245,7 +247,7 @@ class BlazePoseEstimator(PoseEstimator):
         head = head_disparity(_extra(left, side).get("head"), left_rect, right_rect, sign * body, sign, rig.focal_px,
                               rig.baseline_m)
         d, sd = torso_shoulder_disparity(sign * body, apart, bool(near), rig.focal_px, rig.baseline_m, head,
-                                         side_doubt=self._order.doubt(bool(near)))
+                                         side_doubt=self._order_doubt(left, bool(near)))
         torso = float(np.linalg.norm(left.xy_px[[11, 12]].mean(axis=0) - left.xy_px[[23, 24]].mean(axis=0)))
         found = in_front_of_body(found, xy, left.xy_px[list(_BODY)], torso, sign * body, rig.focal_px, rig.baseline_m,
                                  JOINT_PATCH_M)
@@ -261,6 +263,12 @@ class BlazePoseEstimator(PoseEstimator):
                                     rig.principal_point_px, self.limbs_m, slack)
             disp[dropped], sigma[dropped], matched = sign * body, wide, matched & ~dropped
         return JointDisparity(disp, sigma, matched, found.score)
+
+    def _order_doubt(self, left: PoseLandmarks, near: bool) -> float:
+        """Return the doubt of the shoulders' order for a left pose, recorded once however often it is asked for."""
+        if self._order_of is None or self._order_of[0] is not left:
+            self._order_of = (left, self._order.doubt(near))
+        return self._order_of[1]
 
     def _both_concurrently(self, left_img: np.ndarray, right_img: np.ndarray, sign: int
                            ) -> tuple[PoseLandmarks | None, PoseLandmarks | None] | None:

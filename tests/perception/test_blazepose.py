@@ -119,6 +119,21 @@ def test_heatmap_refinement_moves_to_peak_and_ignores_weak_maps():
 
 
 # -- fidelity to MediaPipe on real photos -------------------------------------------------
+def test_the_shoulder_order_is_recorded_once_per_left_pose_however_often_its_joints_are_asked_for():
+    """A tool that asks for the same pose's stereo joints twice (``sitl.arm_eval``) must not count its order twice."""
+    est = BlazePoseEstimator(pose=None)
+
+    def pose_():
+        return PoseLandmarks(np.zeros((33, 2)), np.zeros(33), np.ones(33), np.ones(33), 1.0,
+                             Roi((100.0, 100.0), 50.0, 0.0), np.zeros((2, 2)))
+
+    first, second = pose_(), pose_()
+    assert est._order_doubt(first, True) == est._order_doubt(first, True) == 0.05
+    assert est._order_doubt(second, False) == 0.5   # one of the two recorded frames said the other order
+    est.reset()
+    assert est._order_doubt(second, False) == 0.05
+
+
 def test_photos_right_arm_within_5px_of_mediapipe(pose, photos):
     folder, reference = photos
     checked = 0
