@@ -11,20 +11,18 @@ score stays below ``min_score`` keeps the backend's estimate.
 
 from __future__ import annotations
 
-import dataclasses
 import math
 from dataclasses import dataclass
 
 import cv2
 import numpy as np
 
-from .values import ArmKeypoints
-
-__all__ = ["JOINT_FLOOR_FACTOR", "MATCH_GROSS_SIGMAS", "match_arm", "match_joint_disparity", "subpixel_peak",
+__all__ = ["JOINT_FLOOR_FACTOR", "match_joint_disparity", "subpixel_peak",
            "joint_disparities", "JointDisparity", "reach_disparities",
            "ARM_REACH_M", "TORSO_DEPTH_M", "in_front_of_body", "match_point", "limb_excess_sigmas", "LIMB_SIGMAS",
            "limb_switches", "limb_spans_m", "unmatched_sigma_px", "head_disparity", "on_background", "patch_half_px",
-           "BACKGROUND_SIDE_M", "BACKGROUND_SAME_PX"]
+           "BACKGROUND_SIDE_M", "BACKGROUND_SAME_PX", "MATCH_MIN_SCORE", "MATCH_LR_TOLERANCE_PX",
+           "HEAD_SHOULDER_SIGMA_M", "matched_on_body"]
 
 
 def _grey(patch: np.ndarray) -> np.ndarray:
@@ -383,25 +381,6 @@ def on_background(found: JointDisparity, left: np.ndarray, right: np.ndarray, le
     return JointDisparity(disp, sigma, matched, found.score.copy())
 
 
-SHOULDER_MATCH_SIGMA_M = 0.05
-"""One-sigma depth error (metres) of a given arm's matched shoulder, once moved back by
-``SHOULDER_SURFACE_M``. With the 0.06 m patch (``pose.match_disparity_patch_m``) the raw match lies
-0.02-0.035 m in front of the joint (median per family, 2 px keypoint noise), p10-p90 within
--0.1 / +0.08 m of the joint (issue 11, session 23, ``docs/issue11/session23/scripts/raw_match.py``).
-It was 0.1 m for the 0.12 m patch, which held the torso and the back behind the shoulder (0.12 m
-behind the joint, median): kept, it let the given keypoints' noisy disparity outweigh the match at
-close range (final shoulder error p90 2.7 px where the raw match's was under 1 px)."""
-
-SHOULDER_SURFACE_M = 0.03
-"""How far (metres) the shoulder's joint centre lies behind the surface its patch matches: the
-deltoid's near side (the raw match lies 0.02-0.035 m in front of the joint, median, in every
-generated family; 0.03-0.05 m in the mission scenarios, issue 11 session 22)."""
-
-MATCH_GROSS_SIGMAS = 3.0
-"""A joint's match further than this many combined sigmas from the given keypoints' disparity is a wrong
-match (an elbow's patch locked on the torso behind it) and is dropped."""
-
-
 TORSO_LENGTH_M = 0.5
 """An adult's torso length (shoulders' to hips' midpoints), metres: the unit of ``LIMB_PER_TORSO``."""
 
@@ -440,7 +419,7 @@ def head_disparity(head_px, left: np.ndarray, right: np.ndarray, body_px: float,
     return d, max(float(found.sigma_px[0]), d ** 2 / (focal_px * baseline_m) * HEAD_SHOULDER_SIGMA_M)
 
 
-def _matched_on_body(left_xy: np.ndarray, disparity_px: np.ndarray, matched: np.ndarray, body_px: float,
+def matched_on_body(left_xy: np.ndarray, disparity_px: np.ndarray, matched: np.ndarray, body_px: float,
                      focal_px: float, baseline_m: float) -> np.ndarray:
     """Return which elbow / wrist matches lie on the body behind a foreshortened limb (bool per joint).
 
@@ -543,71 +522,3 @@ def limb_spans_m(params) -> tuple[tuple[float, float], tuple[float, float]] | No
         return None
     lo_u, hi_u, lo_f, hi_f = (float(params[k]) for k in keys)
     return (lo_u, hi_u), (lo_f, hi_f)
-
-
-def match_arm(arm: ArmKeypoints, left: np.ndarray, right: np.ndarray, sign: int, focal_px: float,
-              baseline_m: float, floor_px: float, given_sigma_px: float, patch_m: float = 0.06,
-              principal_px: tuple[float, float] | None = None,
-              limbs_m: tuple[tuple[float, float], tuple[float, float]] | None = None) -> ArmKeypoints:
-    """Return an arm with no disparity sigma of its own, each joint's disparity matched along its row (pixels).
-
-    For a pose source that places each image's keypoints independently (a keypoints file, the
-    simulator's truth plus noise): their left/right disagreement (2 px each: ~2.8 px of disparity,
-    ~0.15 m of depth at 2.5 m) is what leaves the arm's tilt toward the camera uncertain. The
-    left joint's patch is searched along the same rectified row of the right image, within the
-    depths an arm reaches from the body (the keypoints' median disparity), as BlazePose's
-    ``joint_disparity: stereo`` does (``joint_disparities``, patches ``patch_m`` wide at the body's
-    depth; the head's is ``HEAD_PATCHES_M``). The match's sigma is its own, at least
-    ``floor_px`` times ``JOINT_FLOOR_FACTOR`` (the patch shows the limb's near surface, a few
-    centimetres before the joint's centre; the elbow's often holds the torso behind it), and for
-    the shoulder at least ``SHOULDER_MATCH_SIGMA_M`` of depth (its patch matches the deltoid's
-    surface: the match moves back by ``SHOULDER_SURFACE_M``). A shoulder whose flat patch does not
-    match takes the given head's match instead (``head_disparity``), and an elbow / wrist matched
-    on the body behind it is set aside (``_matched_on_body``; the body's depth from the head, else
-    the shoulder's match). A match
-    within ``MATCH_GROSS_SIGMAS`` of the given disparity (sigma ``given_sigma_px``) is combined with
-    it by inverse variance: the joint moves to the left joint's row at that disparity, with that
-    sigma; a farther one, or none, leaves the joint as given. Given the principal point and the
-    limbs' plausible lengths (``limbs_m``: upper arm, forearm, metres), matches that make a limb
-    impossible are dropped, or a match the gross check set aside is taken after all, whichever of the
-    fewest makes every limb plausible (``limb_switches``: a wrist matched on the object behind it; a given
-    wrist 8 px off its right match). The limbs are judged on the matches themselves, not on their
-    combination with the given disparities (with noisy keypoints, 4 px, the combination pulls a right
-    match off).
-    The arm is returned unchanged when its keypoints give no positive disparity.
-    """
-    disparity = arm.left_px[:, 0] - arm.right_px[:, 0]
-    body = float(np.median(disparity))
-    if not math.isfinite(body) or sign * body <= 0.5:
-        return arm
-    found = joint_disparities(left, right, arm.left_px, body, sign, focal_px, baseline_m, patch_m=patch_m)
-    match_sigma = found.floored_sigma_px(floor_px)
-    fb = focal_px * baseline_m
-    if found.matched[0]:   # the deltoid's surface: the joint lies behind it
-        found.disparity_px[0] = sign * fb / (fb / abs(found.disparity_px[0]) + SHOULDER_SURFACE_M)
-    match_sigma[0] = max(match_sigma[0], found.disparity_px[0] ** 2 / fb * SHOULDER_MATCH_SIGMA_M)
-    matched = found.matched.copy()
-    head = head_disparity((arm.extra_left_px or {}).get("head"), left, right, body, sign, focal_px, baseline_m)
-    if head is not None and not matched[0]:
-        found.disparity_px[0], match_sigma[0], matched[0] = head[0], head[1], True
-    body_ref = head[0] if head is not None else (found.disparity_px[0] if matched[0] else body)
-    matched &= ~_matched_on_body(arm.left_px, found.disparity_px, matched, body_ref, focal_px, baseline_m)
-    given = max(float(given_sigma_px), 1e-3)
-    m = matched & (np.abs(found.disparity_px - disparity) <= MATCH_GROSS_SIGMAS * np.hypot(match_sigma, given))
-    w_match, w_given = 1.0 / match_sigma ** 2, 1.0 / given ** 2
-    combined = (w_match * found.disparity_px + w_given * disparity) / (w_match + w_given)
-    final_sigma = 1.0 / np.sqrt(w_match + w_given)
-    if principal_px is not None and limbs_m is not None and np.any(matched):
-        flip = limb_switches(arm.left_px, np.where(m, found.disparity_px, disparity), np.where(m, match_sigma, given),
-                             np.where(m, disparity, found.disparity_px), np.where(m, given, match_sigma), matched, m,
-                             focal_px, baseline_m, principal_px, limbs_m)
-        restored = flip & ~m      # a match the gross check set aside: its own disparity, not pulled by the given
-        combined[restored], final_sigma[restored] = found.disparity_px[restored], match_sigma[restored]
-        m = m ^ flip
-    if not np.any(m):
-        return arm
-    right_px = np.array(arm.right_px, dtype=float, copy=True)
-    right_px[m, 0] = arm.left_px[m, 0] - combined[m]
-    right_px[m, 1] = arm.left_px[m, 1]
-    sigma = np.where(m, final_sigma, np.nan)
-    return dataclasses.replace(arm, right_px=right_px, disparity_sigma_px=sigma, disparity_matched=m.copy())

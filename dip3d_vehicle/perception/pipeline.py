@@ -20,7 +20,8 @@ from .calibration import StereoRig
 from .candidates import CandidateDetector, SiftDetector
 from .corridor import CorridorDetector, merge_candidates
 from .filters import candidate_keep, pose_rejection
-from .joint_stereo import limb_spans_m, match_arm
+from .given_arm import match_arm
+from .joint_stereo import limb_spans_m
 from .pose import PoseEstimator
 from .reuse import CandidateReuse
 from .selection import PointingSelector, make_selector
@@ -311,7 +312,7 @@ class Perception:
 
         Only for an arm whose backend gives no disparity sigma of its own (keypoints files, the
         simulator's truth; BlazePose's ``joint_disparity: stereo`` already matches): see
-        ``joint_stereo.match_arm``.
+        ``given_arm.match_arm``.
         """
         arm = self.pose.estimate(left_rect, right_rect, self.rig)
         if arm is None or arm.disparity_sigma_px is not None or not self.params.get("pose.match_disparity", False):

@@ -44,7 +44,7 @@ class ArmKeypoints:
             definition and bias, systematic over the frames of one pose (it does not average);
             None = none beyond ``selection.keypoint_sigma_px`` (truth + noise, keypoints files).
         disparity_matched: optional (3,) bool: joints whose disparity was measured by matching the
-            left joint's image patch along its rectified row (``joint_stereo.match_arm``); their
+            left joint's image patch along its rectified row (``given_arm.match_arm``); their
             ``disparity_sigma_px`` is the match's own and is used as it is, not raised to the
             keypoints' noise (the match does not inherit the keypoints' left/right disagreement).
     """

@@ -191,8 +191,8 @@ def _noisy_arm(disparity_px: float, rng, sigma_px: float = 2.0):
 
 
 def test_match_arm_measures_each_joints_disparity_and_its_own_sigma():
-    from dip3d_vehicle.perception.joint_stereo import (JOINT_FLOOR_FACTOR, SHOULDER_MATCH_SIGMA_M,
-                                                       SHOULDER_SURFACE_M, match_arm)
+    from dip3d_vehicle.perception.given_arm import SHOULDER_MATCH_SIGMA_M, SHOULDER_SURFACE_M, match_arm
+    from dip3d_vehicle.perception.joint_stereo import JOINT_FLOOR_FACTOR
 
     left, right = _pair(37)
     rng = np.random.default_rng(0)
@@ -210,7 +210,7 @@ def test_match_arm_measures_each_joints_disparity_and_its_own_sigma():
 
 
 def test_match_arm_keeps_what_it_cannot_match():
-    from dip3d_vehicle.perception.joint_stereo import match_arm
+    from dip3d_vehicle.perception.given_arm import match_arm
 
     left, right = _pair(37)
     rng = np.random.default_rng(1)
@@ -229,7 +229,7 @@ def test_match_arm_keeps_what_it_cannot_match():
 
 
 def test_match_arm_combines_with_the_given_disparity_and_drops_a_gross_match():
-    from dip3d_vehicle.perception.joint_stereo import SHOULDER_MATCH_SIGMA_M, SHOULDER_SURFACE_M, match_arm
+    from dip3d_vehicle.perception.given_arm import SHOULDER_MATCH_SIGMA_M, SHOULDER_SURFACE_M, match_arm
 
     left, right = _pair(37)
     arm = _noisy_arm(37.0, np.random.default_rng(3), 0.0)
@@ -253,7 +253,8 @@ def test_match_arm_drops_a_wrist_matched_on_the_textured_object_behind_it():
 
     The given keypoints' own disparity, 3 px off toward the placard, lets the match pass the gross check.
     """
-    from dip3d_vehicle.perception.joint_stereo import limb_excess_sigmas, match_arm
+    from dip3d_vehicle.perception.given_arm import match_arm
+    from dip3d_vehicle.perception.joint_stereo import limb_excess_sigmas
     from dip3d_vehicle.perception.values import ArmKeypoints
 
     rng = np.random.default_rng(4)
@@ -301,7 +302,7 @@ def test_limb_switches_makes_the_fewest_switches_that_leave_every_limb_plausible
 
 def test_match_arm_takes_a_wrist_match_the_gross_check_set_aside_when_the_given_wrist_is_impossible():
     """The given wrist 15 px off (0.6 m behind the arm), its right match set aside by the gross check."""
-    from dip3d_vehicle.perception.joint_stereo import match_arm
+    from dip3d_vehicle.perception.given_arm import match_arm
     from dip3d_vehicle.perception.values import ArmKeypoints
 
     rng = np.random.default_rng(4)
@@ -320,7 +321,7 @@ def test_match_arm_takes_a_wrist_match_the_gross_check_set_aside_when_the_given_
 
 def test_match_arm_sets_aside_a_foreshortened_joint_matched_on_the_body_behind_it():
     """An arm pointing at the camera: elbow and wrist seen over the body, their patches all body (far_diver, 4.7 m)."""
-    from dip3d_vehicle.perception.joint_stereo import match_arm
+    from dip3d_vehicle.perception.given_arm import match_arm
     from dip3d_vehicle.perception.values import ArmKeypoints
 
     left, right = _pair(37)                                    # everything at the body's disparity (3.0 m)
@@ -335,7 +336,8 @@ def test_match_arm_sets_aside_a_foreshortened_joint_matched_on_the_body_behind_i
 
 
 def test_match_arm_takes_the_heads_match_for_a_flat_shoulder():
-    from dip3d_vehicle.perception.joint_stereo import HEAD_SHOULDER_SIGMA_M, match_arm
+    from dip3d_vehicle.perception.given_arm import match_arm
+    from dip3d_vehicle.perception.joint_stereo import HEAD_SHOULDER_SIGMA_M
 
     left, right = _pair(37)
     left[70:131, 160:241] = 90                                 # the shoulder's patch: flat wetsuit
@@ -356,7 +358,8 @@ def test_match_arm_takes_the_heads_match_for_a_flat_shoulder():
 def test_a_flat_hood_is_matched_by_the_heads_outline_with_a_wider_patch(monkeypatch):
     """A far diver's hood is flat at 0.12 m (murky water): the 0.2 m patch holds its outline and matches."""
     from dip3d_vehicle.perception import joint_stereo
-    from dip3d_vehicle.perception.joint_stereo import HEAD_SHOULDER_SIGMA_M, match_arm
+    from dip3d_vehicle.perception.given_arm import match_arm
+    from dip3d_vehicle.perception.joint_stereo import HEAD_SHOULDER_SIGMA_M
 
     left, right = _pair(37)
     left[70:131, 160:241] = 90                                 # the shoulder's patch: flat wetsuit
@@ -410,7 +413,7 @@ def test_the_simulated_divers_joints_match_to_under_a_pixel():
     matches the torso 7 px off; hence the elbow's wider floor, ``JOINT_FLOOR_FACTOR``.)"""
     import dataclasses
 
-    from dip3d_vehicle.perception.joint_stereo import match_arm
+    from dip3d_vehicle.perception.given_arm import match_arm
     from dip3d_vehicle.perception.keypoints_file import GivenKeypoints
     from scene_families import noisy
     from sitl.render import StereoRenderer
@@ -453,7 +456,8 @@ def test_a_matched_shoulder_counts_as_the_torso_behind_it(tmp_path):
     the elbow and wrist keep their sub-pixel matches."""
     import yaml
 
-    from dip3d_vehicle.perception.joint_stereo import joint_disparities, match_arm
+    from dip3d_vehicle.perception.given_arm import match_arm
+    from dip3d_vehicle.perception.joint_stereo import joint_disparities
     from dip3d_vehicle.perception.keypoints_file import GivenKeypoints
     from sitl.render import StereoRenderer
     from sitl.scenario import load_scenario
@@ -571,3 +575,35 @@ def test_a_wrist_matched_nearer_than_its_background_is_kept():
         assert out is found
     unseen_elbow = np.array([[150.0, 100.0], [np.nan, np.nan], [300.0, 100.0]])   # no forearm to look beside
     assert on_background(found, left, right, unseen_elbow, 33.0, 1, 920.0, 0.12) is found
+
+
+def test_grid_disparity_matches_a_flat_shoulder_patch_from_the_texture_around_it():
+    from dip3d_vehicle.perception.given_arm import grid_disparity
+    from dip3d_vehicle.perception.joint_stereo import joint_disparities
+
+    left, right = _pair(37)
+    flat_l, flat_r = left.copy(), right.copy()
+    flat_l[90:111, 190:211] = 60                          # the shoulder's own patch (19 px) is flat: a dark wetsuit
+    flat_r[90:111, 153:174] = 60                          # seen 37 px to the left in the right image
+    shoulder = np.array([[200.0, 100.0]])
+    assert not joint_disparities(flat_l, flat_r, shoulder, 37.0, 1, 920.0, 0.12, patch_m=0.06).matched[0]
+    d, sigma, score = grid_disparity(flat_l, flat_r, shoulder[0], 37.0, 1, 920.0, 0.12, 0.06)
+    assert abs(d - 37.0) < 0.35 and 0.5 <= sigma < 1.0 and score > 0.9
+    flat = np.full_like(left, 90)
+    assert grid_disparity(left, flat, shoulder[0], 37.0, 1, 920.0, 0.12, 0.06) is None       # nothing matches
+    assert grid_disparity(left, right, np.array([np.nan, 100.0]), 37.0, 1, 920.0, 0.12, 0.06) is None
+
+
+def test_match_arm_takes_the_grids_shoulder_where_the_shoulders_own_patch_is_flat():
+    from dip3d_vehicle.perception.given_arm import SHOULDER_SURFACE_M, match_arm
+
+    left, right = _pair(37)
+    rng = np.random.default_rng(3)
+    arm = _noisy_arm(37.0, rng, 0.0)
+    x, y = (int(round(v)) for v in arm.left_px[0])
+    left[y - 10:y + 11, x - 10:x + 11] = 60
+    right[y - 10:y + 11, x - 47:x - 26] = 60
+    out = match_arm(arm, left, right, 1, 920.0, 0.12, floor_px=0.5, given_sigma_px=1e6)
+    fb = 920.0 * 0.12
+    assert out.disparity_matched[0]
+    assert abs(out.left_px[0, 0] - out.right_px[0, 0] - fb / (fb / 37.0 + SHOULDER_SURFACE_M)) < 0.35

@@ -1,0 +1,157 @@
+"""A given arm's joint disparities: the keypoints' own, measured again by matching image patches.
+
+For a pose source that places each image's keypoints independently (a keypoints file, the simulator's
+truth plus noise), ``match_arm`` matches each left joint's patch along its rectified row and combines
+the match with the given disparity (``pose.match_disparity``). The matching itself, and the limb and
+body checks it shares with BlazePose's ``joint_disparity: stereo``, are ``joint_stereo``'s.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+
+from .joint_stereo import (MATCH_LR_TOLERANCE_PX, MATCH_MIN_SCORE, JointDisparity, head_disparity,
+                           joint_disparities, limb_switches, match_point, matched_on_body, patch_half_px,
+                           reach_disparities)
+from .values import ArmKeypoints
+
+__all__ = ["match_arm", "grid_disparity", "with_shoulder_grid", "MATCH_GROSS_SIGMAS", "SHOULDER_MATCH_SIGMA_M",
+           "SHOULDER_SURFACE_M", "SHOULDER_GRID_STEP_M", "SHOULDER_GRID_MIN"]
+
+SHOULDER_MATCH_SIGMA_M = 0.05
+"""One-sigma depth error (metres) of a given arm's matched shoulder, once moved back by
+``SHOULDER_SURFACE_M``. With the 0.06 m patch (``pose.match_disparity_patch_m``) the raw match lies
+0.02-0.035 m in front of the joint (median per family, 2 px keypoint noise), p10-p90 within
+-0.1 / +0.08 m of the joint (issue 11, session 23, ``docs/issue11/session23/scripts/raw_match.py``).
+It was 0.1 m for the 0.12 m patch, which held the torso and the back behind the shoulder (0.12 m
+behind the joint, median): kept, it let the given keypoints' noisy disparity outweigh the match at
+close range (final shoulder error p90 2.7 px where the raw match's was under 1 px)."""
+
+SHOULDER_SURFACE_M = 0.03
+"""How far (metres) the shoulder's joint centre lies behind the surface its patch matches: the
+deltoid's near side (the raw match lies 0.02-0.035 m in front of the joint, median, in every
+generated family; 0.03-0.05 m in the mission scenarios, issue 11 session 22)."""
+
+MATCH_GROSS_SIGMAS = 3.0
+"""A joint's match further than this many combined sigmas from the given keypoints' disparity is a wrong
+match (an elbow's patch locked on the torso behind it) and is dropped."""
+
+
+SHOULDER_GRID_STEP_M = 0.02
+"""Spacing (metres at the body's depth) of the 3 x 3 grid of patches matched around a given shoulder. A
+shoulder's patch on a dark wetsuit is nearly flat (grey-level spread ~2): one patch at the keypoint matched
+in 16 of 48 draws of the ``far`` family (2 px noise, seed 500), the grid's median in 34, |error| p90
+2.3 -> 1.6 px (issue 11, session 33, ``docs/issue11/session33/scripts/grid_probe.py``)."""
+
+SHOULDER_GRID_MIN = 3
+"""Least number of the grid's nine patches that must match for their median to stand for the shoulder's match."""
+
+
+def grid_disparity(left: np.ndarray, right: np.ndarray, xy: np.ndarray, body_disparity_px: float, sign: int,
+                   focal_px: float, baseline_m: float, patch_m: float, step_m: float = SHOULDER_GRID_STEP_M,
+                   min_matches: int = SHOULDER_GRID_MIN) -> tuple[float, float, float] | None:
+    """Return the median (disparity, sigma, score) of a 3 x 3 grid of patch matches around a left point (pixels).
+
+    Each patch (``patch_m`` wide at the body's depth) is matched as ``joint_disparities`` matches a joint.
+    The sigma is the larger of the matches' median sigma and their spread (1.4826 x the median absolute
+    deviation). None when fewer than ``min_matches`` patches match.
+    """
+    d_lo, d_hi = reach_disparities(body_disparity_px, focal_px * baseline_m)
+    half = patch_half_px(body_disparity_px, baseline_m, patch_m)
+    step = max(1, int(round(step_m * abs(body_disparity_px) / baseline_m)))
+    if not (math.isfinite(float(xy[0])) and math.isfinite(float(xy[1]))):
+        return None
+    x, y = (int(round(float(v))) for v in xy)
+    found = [match_point(left, right, x + dx * step, y + dy * step, d_lo, d_hi, sign, half, MATCH_MIN_SCORE,
+                         MATCH_LR_TOLERANCE_PX) for dy in (-1, 0, 1) for dx in (-1, 0, 1)]
+    found = [f for f in found if f is not None]
+    if len(found) < min_matches:
+        return None
+    mags, sigmas, scores = (np.array(v, float) for v in zip(*found))
+    med = float(np.median(mags))
+    sigma = max(float(np.median(sigmas)), 1.4826 * float(np.median(np.abs(mags - med))))
+    return sign * med, sigma, float(np.median(scores))
+
+
+def with_shoulder_grid(found: JointDisparity, grid: tuple[float, float, float] | None) -> JointDisparity:
+    """Return ``found`` with the shoulder's (first joint's) match replaced by the grid's, when there is one."""
+    if grid is None:
+        return found
+    disp, sigma, matched, score = (a.copy() for a in (found.disparity_px, found.sigma_px, found.matched, found.score))
+    disp[0], sigma[0], score[0] = grid
+    matched[0] = True
+    return JointDisparity(disp, sigma, matched, score)
+
+
+def match_arm(arm: ArmKeypoints, left: np.ndarray, right: np.ndarray, sign: int, focal_px: float,
+              baseline_m: float, floor_px: float, given_sigma_px: float, patch_m: float = 0.06,
+              principal_px: tuple[float, float] | None = None,
+              limbs_m: tuple[tuple[float, float], tuple[float, float]] | None = None) -> ArmKeypoints:
+    """Return an arm with no disparity sigma of its own, each joint's disparity matched along its row (pixels).
+
+    For a pose source that places each image's keypoints independently (a keypoints file, the
+    simulator's truth plus noise): their left/right disagreement (2 px each: ~2.8 px of disparity,
+    ~0.15 m of depth at 2.5 m) is what leaves the arm's tilt toward the camera uncertain. The
+    left joint's patch is searched along the same rectified row of the right image, within the
+    depths an arm reaches from the body (the keypoints' median disparity), as BlazePose's
+    ``joint_disparity: stereo`` does (``joint_disparities``, patches ``patch_m`` wide at the body's
+    depth; the head's is ``HEAD_PATCHES_M``). The match's sigma is its own, at least
+    ``floor_px`` times ``JOINT_FLOOR_FACTOR`` (the patch shows the limb's near surface, a few
+    centimetres before the joint's centre; the elbow's often holds the torso behind it), and for
+    the shoulder at least ``SHOULDER_MATCH_SIGMA_M`` of depth (its patch matches the deltoid's
+    surface: the match moves back by ``SHOULDER_SURFACE_M``; the shoulder's match is the median of a grid
+    of patches around it, ``grid_disparity``, when enough of them match). A shoulder whose flat patch does not
+    match takes the given head's match instead (``head_disparity``), and an elbow / wrist matched
+    on the body behind it is set aside (``matched_on_body``; the body's depth from the head, else
+    the shoulder's match). A match
+    within ``MATCH_GROSS_SIGMAS`` of the given disparity (sigma ``given_sigma_px``) is combined with
+    it by inverse variance: the joint moves to the left joint's row at that disparity, with that
+    sigma; a farther one, or none, leaves the joint as given. Given the principal point and the
+    limbs' plausible lengths (``limbs_m``: upper arm, forearm, metres), matches that make a limb
+    impossible are dropped, or a match the gross check set aside is taken after all, whichever of the
+    fewest makes every limb plausible (``limb_switches``: a wrist matched on the object behind it; a given
+    wrist 8 px off its right match). The limbs are judged on the matches themselves, not on their
+    combination with the given disparities (with noisy keypoints, 4 px, the combination pulls a right
+    match off).
+    The arm is returned unchanged when its keypoints give no positive disparity.
+    """
+    disparity = arm.left_px[:, 0] - arm.right_px[:, 0]
+    body = float(np.median(disparity))
+    if not math.isfinite(body) or sign * body <= 0.5:
+        return arm
+    found = with_shoulder_grid(joint_disparities(left, right, arm.left_px, body, sign, focal_px, baseline_m,
+                                                 patch_m=patch_m),
+                               grid_disparity(left, right, arm.left_px[0], body, sign, focal_px, baseline_m, patch_m))
+    match_sigma = found.floored_sigma_px(floor_px)
+    fb = focal_px * baseline_m
+    if found.matched[0]:   # the deltoid's surface: the joint lies behind it
+        found.disparity_px[0] = sign * fb / (fb / abs(found.disparity_px[0]) + SHOULDER_SURFACE_M)
+    match_sigma[0] = max(match_sigma[0], found.disparity_px[0] ** 2 / fb * SHOULDER_MATCH_SIGMA_M)
+    matched = found.matched.copy()
+    head = head_disparity((arm.extra_left_px or {}).get("head"), left, right, body, sign, focal_px, baseline_m)
+    if head is not None and not matched[0]:
+        found.disparity_px[0], match_sigma[0], matched[0] = head[0], head[1], True
+    body_ref = head[0] if head is not None else (found.disparity_px[0] if matched[0] else body)
+    matched &= ~matched_on_body(arm.left_px, found.disparity_px, matched, body_ref, focal_px, baseline_m)
+    given = max(float(given_sigma_px), 1e-3)
+    m = matched & (np.abs(found.disparity_px - disparity) <= MATCH_GROSS_SIGMAS * np.hypot(match_sigma, given))
+    w_match, w_given = 1.0 / match_sigma ** 2, 1.0 / given ** 2
+    combined = (w_match * found.disparity_px + w_given * disparity) / (w_match + w_given)
+    final_sigma = 1.0 / np.sqrt(w_match + w_given)
+    if principal_px is not None and limbs_m is not None and np.any(matched):
+        flip = limb_switches(arm.left_px, np.where(m, found.disparity_px, disparity), np.where(m, match_sigma, given),
+                             np.where(m, disparity, found.disparity_px), np.where(m, given, match_sigma), matched, m,
+                             focal_px, baseline_m, principal_px, limbs_m)
+        restored = flip & ~m      # a match the gross check set aside: its own disparity, not pulled by the given
+        combined[restored], final_sigma[restored] = found.disparity_px[restored], match_sigma[restored]
+        m = m ^ flip
+    if not np.any(m):
+        return arm
+    right_px = np.array(arm.right_px, dtype=float, copy=True)
+    right_px[m, 0] = arm.left_px[m, 0] - combined[m]
+    right_px[m, 1] = arm.left_px[m, 1]
+    sigma = np.where(m, final_sigma, np.nan)
+    return dataclasses.replace(arm, right_px=right_px, disparity_sigma_px=sigma, disparity_matched=m.copy())
