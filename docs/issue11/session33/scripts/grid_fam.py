@@ -1,0 +1,48 @@
+"""Families (default only) with the given arm's joint matches taken as the median of a grid of patches (GRID_JOINTS)."""
+import math, os, sys, tempfile
+from pathlib import Path
+import numpy as np
+sys.path.insert(0, "tests/perception")
+import scene_families as sf
+from dip3d_vehicle.perception import joint_stereo as JS
+STEP_M = float(os.environ.get("STEP_M", "0.02")); JOINTS = [int(c) for c in os.environ.get("GRID_JOINTS", "0")]
+MIN_N = int(os.environ.get("MIN_N", "3"))
+orig = JS.joint_disparities
+def joint_disparities(left, right, left_xy, body, sign, focal_px, baseline_m, patch_m=0.12, min_score=JS.MATCH_MIN_SCORE,
+                      lr_tolerance_px=JS.MATCH_LR_TOLERANCE_PX):
+    found = orig(left, right, left_xy, body, sign, focal_px, baseline_m, patch_m, min_score, lr_tolerance_px)
+    d_lo, d_hi = JS.reach_disparities(body, focal_px * baseline_m)
+    half = JS.patch_half_px(body, baseline_m, patch_m)
+    step = max(1, int(round(STEP_M * abs(body) / baseline_m)))
+    for j in JOINTS:
+        if len(left_xy) != 3:
+            continue
+        x, y = (int(round(v)) for v in left_xy[j])
+        vals, sigs, scs = [], [], []
+        for dy in (-1, 0, 1):
+            for dx in (-1, 0, 1):
+                m = JS.match_point(left, right, x + dx * step, y + dy * step, d_lo, d_hi, sign, half, min_score, lr_tolerance_px)
+                if m is not None:
+                    vals.append(m[0]); sigs.append(m[1]); scs.append(m[2])
+        if len(vals) >= MIN_N:
+            v = np.array(vals)
+            med = float(np.median(v))
+            found.disparity_px[j] = sign * med
+            found.sigma_px[j] = max(float(np.median(sigs)), 1.4826 * float(np.median(np.abs(v - med))))
+            found.matched[j] = True
+            found.score[j] = float(np.median(scs))
+    return found
+JS.joint_disparities = joint_disparities
+n, seed0 = int(sys.argv[1]), int(sys.argv[2])
+noise = tuple(float(x) for x in sys.argv[3].split(","))
+over = sys.argv[4:]
+tally = sf.Tally()
+with tempfile.TemporaryDirectory() as tmp:
+    for family in sf.FAMILIES:
+        sf.tally_family(Path(tmp), family, n, 8, seed0, noise_px=noise, profiles=("default",), tally=tally, overrides=over)
+for s in noise:
+    det = tally.merged("default", s, ("line_of_sight", "far", "elbow", "far_diver"))
+    und = tally.merged("default", s, ("undetectable",))
+    allc = tally.merged("default", s)
+    print(f"{seed0} grid {JOINTS} step {STEP_M} min {MIN_N} {' '.join(over)} noise {s}: detectable {det} correct {sf.rate(det,'correct'):.1%}; undetectable {sf.rate(und,'correct'):.1%} {und}; conf wrong {sf.rate(allc,'confident_wrong'):.2%}")
+print(sf.report(tally, noise_px=noise))
