@@ -13,13 +13,10 @@ import math
 
 import numpy as np
 
-from .joint_stereo import (MATCH_LR_TOLERANCE_PX, MATCH_MIN_SCORE, JointDisparity, head_disparity,
-                           joint_disparities, limb_switches, match_point, matched_on_body, patch_half_px,
-                           reach_disparities)
+from .joint_stereo import head_disparity, joint_disparities, limb_switches, matched_on_body
 from .values import ArmKeypoints
 
-__all__ = ["match_arm", "grid_disparity", "with_shoulder_grid", "MATCH_GROSS_SIGMAS", "SHOULDER_MATCH_SIGMA_M",
-           "SHOULDER_SURFACE_M", "SHOULDER_GRID_STEP_M", "SHOULDER_GRID_MIN"]
+__all__ = ["match_arm", "MATCH_GROSS_SIGMAS", "SHOULDER_MATCH_SIGMA_M", "SHOULDER_SURFACE_M"]
 
 SHOULDER_MATCH_SIGMA_M = 0.05
 """One-sigma depth error (metres) of a given arm's matched shoulder, once moved back by
@@ -40,52 +37,6 @@ MATCH_GROSS_SIGMAS = 3.0
 match (an elbow's patch locked on the torso behind it) and is dropped."""
 
 
-SHOULDER_GRID_STEP_M = 0.02
-"""Spacing (metres at the body's depth) of the 3 x 3 grid of patches matched around a given shoulder. A
-shoulder's patch on a dark wetsuit is nearly flat (grey-level spread ~2): one patch at the keypoint matched
-in 16 of 48 draws of the ``far`` family (2 px noise, seed 500), the grid's median in 34, |error| p90
-2.3 -> 1.6 px (issue 11, session 33, ``docs/issue11/session33/scripts/grid_probe.py``)."""
-
-SHOULDER_GRID_MIN = 3
-"""Least number of the grid's nine patches that must match for their median to stand for the shoulder's match."""
-
-
-def grid_disparity(left: np.ndarray, right: np.ndarray, xy: np.ndarray, body_disparity_px: float, sign: int,
-                   focal_px: float, baseline_m: float, patch_m: float, step_m: float = SHOULDER_GRID_STEP_M,
-                   min_matches: int = SHOULDER_GRID_MIN) -> tuple[float, float, float] | None:
-    """Return the median (disparity, sigma, score) of a 3 x 3 grid of patch matches around a left point (pixels).
-
-    Each patch (``patch_m`` wide at the body's depth) is matched as ``joint_disparities`` matches a joint.
-    The sigma is the larger of the matches' median sigma and their spread (1.4826 x the median absolute
-    deviation). None when fewer than ``min_matches`` patches match.
-    """
-    d_lo, d_hi = reach_disparities(body_disparity_px, focal_px * baseline_m)
-    half = patch_half_px(body_disparity_px, baseline_m, patch_m)
-    step = max(1, int(round(step_m * abs(body_disparity_px) / baseline_m)))
-    if not (math.isfinite(float(xy[0])) and math.isfinite(float(xy[1]))):
-        return None
-    x, y = (int(round(float(v))) for v in xy)
-    found = [match_point(left, right, x + dx * step, y + dy * step, d_lo, d_hi, sign, half, MATCH_MIN_SCORE,
-                         MATCH_LR_TOLERANCE_PX) for dy in (-1, 0, 1) for dx in (-1, 0, 1)]
-    found = [f for f in found if f is not None]
-    if len(found) < min_matches:
-        return None
-    mags, sigmas, scores = (np.array(v, float) for v in zip(*found))
-    med = float(np.median(mags))
-    sigma = max(float(np.median(sigmas)), 1.4826 * float(np.median(np.abs(mags - med))))
-    return sign * med, sigma, float(np.median(scores))
-
-
-def with_shoulder_grid(found: JointDisparity, grid: tuple[float, float, float] | None) -> JointDisparity:
-    """Return ``found`` with the shoulder's (first joint's) match replaced by the grid's, when there is one."""
-    if grid is None:
-        return found
-    disp, sigma, matched, score = (a.copy() for a in (found.disparity_px, found.sigma_px, found.matched, found.score))
-    disp[0], sigma[0], score[0] = grid
-    matched[0] = True
-    return JointDisparity(disp, sigma, matched, score)
-
-
 def match_arm(arm: ArmKeypoints, left: np.ndarray, right: np.ndarray, sign: int, focal_px: float,
               baseline_m: float, floor_px: float, given_sigma_px: float, patch_m: float = 0.06,
               principal_px: tuple[float, float] | None = None,
@@ -102,8 +53,7 @@ def match_arm(arm: ArmKeypoints, left: np.ndarray, right: np.ndarray, sign: int,
     ``floor_px`` times ``JOINT_FLOOR_FACTOR`` (the patch shows the limb's near surface, a few
     centimetres before the joint's centre; the elbow's often holds the torso behind it), and for
     the shoulder at least ``SHOULDER_MATCH_SIGMA_M`` of depth (its patch matches the deltoid's
-    surface: the match moves back by ``SHOULDER_SURFACE_M``; the shoulder's match is the median of a grid
-    of patches around it, ``grid_disparity``, when enough of them match). A shoulder whose flat patch does not
+    surface: the match moves back by ``SHOULDER_SURFACE_M``). A shoulder whose flat patch does not
     match takes the given head's match instead (``head_disparity``), and an elbow / wrist matched
     on the body behind it is set aside (``matched_on_body``; the body's depth from the head, else
     the shoulder's match). A match
@@ -122,9 +72,7 @@ def match_arm(arm: ArmKeypoints, left: np.ndarray, right: np.ndarray, sign: int,
     body = float(np.median(disparity))
     if not math.isfinite(body) or sign * body <= 0.5:
         return arm
-    found = with_shoulder_grid(joint_disparities(left, right, arm.left_px, body, sign, focal_px, baseline_m,
-                                                 patch_m=patch_m),
-                               grid_disparity(left, right, arm.left_px[0], body, sign, focal_px, baseline_m, patch_m))
+    found = joint_disparities(left, right, arm.left_px, body, sign, focal_px, baseline_m, patch_m=patch_m)
     match_sigma = found.floored_sigma_px(floor_px)
     fb = focal_px * baseline_m
     if found.matched[0]:   # the deltoid's surface: the joint lies behind it

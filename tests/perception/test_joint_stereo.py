@@ -576,34 +576,3 @@ def test_a_wrist_matched_nearer_than_its_background_is_kept():
     unseen_elbow = np.array([[150.0, 100.0], [np.nan, np.nan], [300.0, 100.0]])   # no forearm to look beside
     assert on_background(found, left, right, unseen_elbow, 33.0, 1, 920.0, 0.12) is found
 
-
-def test_grid_disparity_matches_a_flat_shoulder_patch_from_the_texture_around_it():
-    from dip3d_vehicle.perception.given_arm import grid_disparity
-    from dip3d_vehicle.perception.joint_stereo import joint_disparities
-
-    left, right = _pair(37)
-    flat_l, flat_r = left.copy(), right.copy()
-    flat_l[90:111, 190:211] = 60                          # the shoulder's own patch (19 px) is flat: a dark wetsuit
-    flat_r[90:111, 153:174] = 60                          # seen 37 px to the left in the right image
-    shoulder = np.array([[200.0, 100.0]])
-    assert not joint_disparities(flat_l, flat_r, shoulder, 37.0, 1, 920.0, 0.12, patch_m=0.06).matched[0]
-    d, sigma, score = grid_disparity(flat_l, flat_r, shoulder[0], 37.0, 1, 920.0, 0.12, 0.06)
-    assert abs(d - 37.0) < 0.35 and 0.5 <= sigma < 1.0 and score > 0.9
-    flat = np.full_like(left, 90)
-    assert grid_disparity(left, flat, shoulder[0], 37.0, 1, 920.0, 0.12, 0.06) is None       # nothing matches
-    assert grid_disparity(left, right, np.array([np.nan, 100.0]), 37.0, 1, 920.0, 0.12, 0.06) is None
-
-
-def test_match_arm_takes_the_grids_shoulder_where_the_shoulders_own_patch_is_flat():
-    from dip3d_vehicle.perception.given_arm import SHOULDER_SURFACE_M, match_arm
-
-    left, right = _pair(37)
-    rng = np.random.default_rng(3)
-    arm = _noisy_arm(37.0, rng, 0.0)
-    x, y = (int(round(v)) for v in arm.left_px[0])
-    left[y - 10:y + 11, x - 10:x + 11] = 60
-    right[y - 10:y + 11, x - 47:x - 26] = 60
-    out = match_arm(arm, left, right, 1, 920.0, 0.12, floor_px=0.5, given_sigma_px=1e6)
-    fb = 920.0 * 0.12
-    assert out.disparity_matched[0]
-    assert abs(out.left_px[0, 0] - out.right_px[0, 0] - fb / (fb / 37.0 + SHOULDER_SURFACE_M)) < 0.35

@@ -1,4 +1,4 @@
-"""Families (default only) with the given arm's joint matches taken as the median of a grid of patches (GRID_JOINTS)."""
+"""Families (default only) with the given arm's joint matches taken as the median of a grid of patches (GRID_JOINTS; FALLBACK=1: only where the single patch does not match). Run on the previous main (PYTHONPATH=a worktree of 3290069): it patches joint_stereo.joint_disparities."""
 import math, os, sys, tempfile
 from pathlib import Path
 import numpy as np
@@ -24,7 +24,7 @@ def joint_disparities(left, right, left_xy, body, sign, focal_px, baseline_m, pa
                 m = JS.match_point(left, right, x + dx * step, y + dy * step, d_lo, d_hi, sign, half, min_score, lr_tolerance_px)
                 if m is not None:
                     vals.append(m[0]); sigs.append(m[1]); scs.append(m[2])
-        if len(vals) >= MIN_N:
+        if len(vals) >= MIN_N and not (os.environ.get("FALLBACK") and found.matched[j]):
             v = np.array(vals)
             med = float(np.median(v))
             found.disparity_px[j] = sign * med
