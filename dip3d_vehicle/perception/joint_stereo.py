@@ -21,8 +21,7 @@ __all__ = ["JOINT_FLOOR_FACTOR", "match_joint_disparity", "subpixel_peak",
            "joint_disparities", "JointDisparity", "reach_disparities",
            "ARM_REACH_M", "TORSO_DEPTH_M", "in_front_of_body", "match_point", "limb_excess_sigmas", "LIMB_SIGMAS",
            "limb_switches", "limb_spans_m", "unmatched_sigma_px", "head_disparity", "on_background", "patch_half_px",
-           "BACKGROUND_SIDE_M", "BACKGROUND_SAME_PX", "MATCH_MIN_SCORE", "MATCH_LR_TOLERANCE_PX",
-           "HEAD_SHOULDER_SIGMA_M", "matched_on_body"]
+           "BACKGROUND_SIDE_M", "BACKGROUND_SAME_PX", "HEAD_SHOULDER_SIGMA_M", "matched_on_body"]
 
 
 def _grey(patch: np.ndarray) -> np.ndarray:
@@ -420,7 +419,7 @@ def head_disparity(head_px, left: np.ndarray, right: np.ndarray, body_px: float,
 
 
 def matched_on_body(left_xy: np.ndarray, disparity_px: np.ndarray, matched: np.ndarray, body_px: float,
-                     focal_px: float, baseline_m: float) -> np.ndarray:
+                    focal_px: float, baseline_m: float) -> np.ndarray:
     """Return which elbow / wrist matches lie on the body behind a foreshortened limb (bool per joint).
 
     A joint nearer its shoulder in the image, along the arm (shoulder -> elbow -> wrist: a bent arm

@@ -118,7 +118,6 @@ def test_heatmap_refinement_moves_to_peak_and_ignores_weak_maps():
     assert np.allclose(out[1], xy[1])
 
 
-# -- fidelity to MediaPipe on real photos -------------------------------------------------
 def test_the_shoulder_order_is_recorded_once_per_left_pose_however_often_its_joints_are_asked_for():
     """A tool that asks for the same pose's stereo joints twice (``sitl.arm_eval``) must not count its order twice."""
     est = BlazePoseEstimator(pose=None)
@@ -134,6 +133,7 @@ def test_the_shoulder_order_is_recorded_once_per_left_pose_however_often_its_joi
     assert est._order_doubt(second, False) == 0.05
 
 
+# -- fidelity to MediaPipe on real photos -------------------------------------------------
 def test_photos_right_arm_within_5px_of_mediapipe(pose, photos):
     folder, reference = photos
     checked = 0
