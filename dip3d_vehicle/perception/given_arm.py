@@ -16,7 +16,7 @@ import numpy as np
 from .joint_stereo import head_disparity, joint_disparities, limb_switches, matched_on_body
 from .values import ArmKeypoints
 
-__all__ = ["match_arm", "MATCH_GROSS_SIGMAS", "SHOULDER_MATCH_SIGMA_M", "SHOULDER_SURFACE_M"]
+__all__ = ["match_arm", "MATCH_GROSS_SIGMAS", "SHOULDER_MATCH_SIGMA_M", "SHOULDER_SURFACE_M", "WRIST_HAND_SHARE"]
 
 SHOULDER_MATCH_SIGMA_M = 0.05
 """One-sigma depth error (metres) of a given arm's matched shoulder, once moved back by
@@ -31,6 +31,16 @@ SHOULDER_SURFACE_M = 0.03
 """How far (metres) the shoulder's joint centre lies behind the surface its patch matches: the
 deltoid's near side (the raw match lies 0.02-0.035 m in front of the joint, median, in every
 generated family; 0.03-0.05 m in the mission scenarios, issue 11 session 22)."""
+
+WRIST_HAND_SHARE = 0.08
+"""How far beyond the wrist its patch matches, as a share of the shoulder-to-wrist disparity difference: the
+patch holds the hand, which lies beyond the wrist along the arm (~0.045 m along a ~0.57 m arm), so the raw match
+overstates the arm's tilt toward or away from the camera. Against the truth joints (open-set families, 2 px, seed
+500, 160 draws each) the wrist's raw match error rose with the truth shoulder-to-wrist disparity difference by
+0.04 / 0.08 / 0.07 px per px (``far`` / ``line_of_sight`` / ``elbow``; correlation 0.37 / 0.83 / 0.57). Moved back by
+this share (from the shoulder's own match, else its given disparity) the raw wrist's |error| median / p90 went
+0.44 / 0.79 -> 0.24 / 0.79, 0.37 / 0.98 -> 0.24 / 0.72 and 0.57 / 1.14 -> 0.35 / 0.89 px (issue 11, session 34,
+``docs/issue11/session34/scripts/wrist_share.py``)."""
 
 MATCH_GROSS_SIGMAS = 3.0
 """A joint's match further than this many combined sigmas from the given keypoints' disparity is a wrong
@@ -54,7 +64,9 @@ def match_arm(arm: ArmKeypoints, left: np.ndarray, right: np.ndarray, sign: int,
     centimetres before the joint's centre; the elbow's often holds the torso behind it), and for
     the shoulder at least ``SHOULDER_MATCH_SIGMA_M`` of depth (its patch matches the deltoid's
     surface: the match moves back by ``SHOULDER_SURFACE_M``). A shoulder whose flat patch does not
-    match takes the given head's match instead (``head_disparity``), and an elbow / wrist matched
+    match takes the given head's match instead (``head_disparity``). The wrist's match holds the hand beyond it
+    and moves back toward the shoulder's disparity by ``WRIST_HAND_SHARE`` of their difference (the shoulder's
+    own match, else its given disparity). An elbow / wrist matched
     on the body behind it is set aside (``matched_on_body``; the body's depth from the head, else
     the shoulder's match). A match
     within ``MATCH_GROSS_SIGMAS`` of the given disparity (sigma ``given_sigma_px``) is combined with
@@ -75,6 +87,9 @@ def match_arm(arm: ArmKeypoints, left: np.ndarray, right: np.ndarray, sign: int,
     found = joint_disparities(left, right, arm.left_px, body, sign, focal_px, baseline_m, patch_m=patch_m)
     match_sigma = found.floored_sigma_px(floor_px)
     fb = focal_px * baseline_m
+    if found.matched[2]:   # the hand beyond the wrist, along the arm
+        shoulder = found.disparity_px[0] if found.matched[0] else disparity[0]
+        found.disparity_px[2] -= WRIST_HAND_SHARE * (found.disparity_px[2] - shoulder)
     if found.matched[0]:   # the deltoid's surface: the joint lies behind it
         found.disparity_px[0] = sign * fb / (fb / abs(found.disparity_px[0]) + SHOULDER_SURFACE_M)
     match_sigma[0] = max(match_sigma[0], found.disparity_px[0] ** 2 / fb * SHOULDER_MATCH_SIGMA_M)

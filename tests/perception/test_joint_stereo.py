@@ -248,12 +248,34 @@ def test_match_arm_combines_with_the_given_disparity_and_drops_a_gross_match():
     assert abs(out.disparity_sigma_px[0] - 1.0 / np.sqrt(w.sum())) < 0.01        # 0.89 px with a 1 px floor
 
 
+def test_match_arm_moves_the_wrists_match_back_from_the_hand_toward_the_shoulder():
+    """The wrist's patch holds the hand beyond it: an arm pointing at the camera has its match nearer than the wrist."""
+    from dip3d_vehicle.perception.given_arm import SHOULDER_SURFACE_M, WRIST_HAND_SHARE, match_arm
+    from dip3d_vehicle.perception.values import ArmKeypoints
+
+    rng = np.random.default_rng(5)
+    left = (rng.random((50, 150, 3)) * 255).astype(np.uint8).repeat(4, 0).repeat(4, 1)     # 200 x 600
+    right = np.zeros_like(left)
+    right[:, :540] = left[:, 60:]                              # the shoulder and elbow at 60 px (1.84 m)
+    right[70:131, 372:452] = left[70:131, 436:516]             # around the wrist: 64 px, 0.11 m nearer
+    xy = np.array([[150.0, 100.0], [295.0, 70.0], [476.0, 100.0]])
+    arm = ArmKeypoints("right", xy, xy - [[60.0, 0.0], [60.0, 0.0], [64.0, 0.0]], np.ones(3), np.ones(3), "test")
+    out = match_arm(arm, left, right, 1, 920.0, 0.12, floor_px=0.5, given_sigma_px=1e6)
+    assert out.disparity_matched.all()
+    d = out.left_px[:, 0] - out.right_px[:, 0]
+    fb = 920.0 * 0.12
+    shoulder = fb / (fb / 60.0 + SHOULDER_SURFACE_M)
+    assert abs(d[0] - shoulder) < 0.2
+    assert abs(d[2] - (64.0 - WRIST_HAND_SHARE * (64.0 - 60.0))) < 0.2     # from the shoulder's own match: 63.7 px
+    assert d[2] < 63.85                                        # not the hand's 64
+
+
 def test_match_arm_drops_a_wrist_matched_on_the_textured_object_behind_it():
     """A thin wrist in front of a placard: its patch is the placard's, 0.3 m behind, and makes the forearm 0.44 m long.
 
     The given keypoints' own disparity, 3 px off toward the placard, lets the match pass the gross check.
     """
-    from dip3d_vehicle.perception.given_arm import match_arm
+    from dip3d_vehicle.perception.given_arm import WRIST_HAND_SHARE, match_arm
     from dip3d_vehicle.perception.joint_stereo import limb_excess_sigmas
     from dip3d_vehicle.perception.values import ArmKeypoints
 
@@ -268,7 +290,8 @@ def test_match_arm_drops_a_wrist_matched_on_the_textured_object_behind_it():
     kept = match_arm(arm, left, right, 1, 920.0, 0.12, floor_px=0.5, given_sigma_px=2.0)
     assert kept.disparity_matched.all()                        # 6 px from the given wrist: within 3 sigmas
     d = kept.left_px[:, 0] - kept.right_px[:, 0]
-    assert abs(d[2] - 51.4) < 0.3                              # 0.3 m behind the wrist
+    wrist = 51.0 - WRIST_HAND_SHARE * (51.0 - 60.0)            # the placard's match, moved back for the hand
+    assert abs(d[2] - (wrist * 4.0 + 57.0 * 0.25) / 4.25) < 0.3    # with the given 57 px: 0.3 m behind the wrist
     assert limb_excess_sigmas(xy, d, kept.disparity_sigma_px, 920.0, 0.12, centre, limbs)[1] > 4
     out = match_arm(arm, left, right, 1, 920.0, 0.12, 0.5, 2.0, principal_px=centre, limbs_m=limbs)
     assert out.disparity_matched.tolist() == [True, True, False]
