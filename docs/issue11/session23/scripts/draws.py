@@ -29,6 +29,31 @@ def draws(scene: sf.Scene, seed0: int, k: int, sigma_px: float) -> Iterator[tupl
                 yield d, kp, joints
 
 
+def truth_disparities(rig, truth: dict) -> np.ndarray:
+    """Return the truth shoulder, elbow and wrist's rectified disparities x_left - x_right (pixels).
+
+    ``truth``: a frame's ``meta["keypoints_truth"]`` (original-image pixels per eye and joint).
+    """
+    names = ("shoulder", "elbow", "wrist")
+    left = rig.to_rectified(np.array([truth["left"][j] for j in names], float), "left")
+    right = rig.to_rectified(np.array([truth["right"][j] for j in names], float), "right")
+    return left[:, 0] - right[:, 0]
+
+
+def given_arms(tmp, family: str, n: int, seed0: int, sigma_px: float) -> Iterator[tuple]:
+    """Yield (rig, left, right, the given arm, the body's disparity px, truth disparities px) per draw at ``sigma_px``.
+
+    The arm is the keypoints' own (``pose.estimate``, before any matching), over ``n`` scenes of a family.
+    """
+    for k, scene in enumerate(sf.scenes(Path(tmp), family, n, seed0)):
+        rig, left, right, pose, _, _, _ = sf.prepared(scene, "default")
+        dt = truth_disparities(rig, scene.frame.meta["keypoints_truth"])
+        for _, kp, _ in draws(scene, seed0, k, sigma_px):
+            pose.provide(kp)
+            raw = pose.estimate(left, right, rig)
+            yield rig, left, right, raw, float(np.median(raw.left_px[:, 0] - raw.right_px[:, 0])), dt
+
+
 def nth_scene(tmp, family: str, seed0: int, n: int) -> sf.Scene:
     """Return scene ``n`` (from 0) of a family as the families' tally draws it (``tmp``: a folder for its files)."""
     for k, scene in enumerate(sf.scenes(tmp, family, n + 1, seed0)):

@@ -1,10 +1,8 @@
 """Raw joint matches vs truth (px): the project's NCC patch match vs an adaptive-support (colour-weighted) NCC."""
 import math, os, sys, tempfile
-from pathlib import Path
 import numpy as np
 import cv2
 sys.path.insert(0, "tests/perception"); sys.path.insert(0, "docs/issue11/session23/scripts")
-import scene_families as sf
 import draws as dr
 from dip3d_vehicle.perception import joint_stereo as JS
 
@@ -44,29 +42,18 @@ def asw_match(left, right, x, y, d_lo, d_hi, sign, half):
 fam, n, seed0, sigma = sys.argv[1], int(sys.argv[2]), int(sys.argv[3]), float(sys.argv[4])
 E = {"ncc": [], "asw": []}
 with tempfile.TemporaryDirectory() as tmp:
-    for k, scene in enumerate(sf.scenes(Path(tmp), fam, n, seed0)):
-        rig, left, right, pose, perception, _, base = sf.prepared(scene, "default")
-        truth = scene.frame.meta["keypoints_truth"]
-        names = ("shoulder", "elbow", "wrist")
-        L = rig.to_rectified(np.array([truth["left"][j] for j in names], float), "left")
-        R = rig.to_rectified(np.array([truth["right"][j] for j in names], float), "right")
-        dt = L[:, 0] - R[:, 0]
+    for rig, left, right, raw, body, dt in dr.given_arms(tmp, fam, n, seed0, sigma):
         fb = rig.focal_px * rig.baseline_m
-        for d, kp, joints in dr.draws(scene, seed0, k, sigma):
-            pose.provide(kp)
-            raw = pose.estimate(left, right, rig)
-            given = raw.left_px[:, 0] - raw.right_px[:, 0]
-            body = float(np.median(given))
-            found = JS.joint_disparities(left, right, raw.left_px, body, rig.disparity_sign, rig.focal_px, rig.baseline_m, patch_m=0.06)
-            d_lo, d_hi = JS.reach_disparities(body, fb)
-            half = JS.patch_half_px(body, rig.baseline_m, float(os.environ.get("PATCH", "0.06")))
-            a = np.full(3, np.nan)
-            for j in range(3):
-                m = asw_match(left, right, int(round(raw.left_px[j, 0])), int(round(raw.left_px[j, 1])), d_lo, d_hi, rig.disparity_sign, half)
-                if m is not None:
-                    a[j] = rig.disparity_sign * m
-            E["ncc"].append(np.where(found.matched, found.disparity_px - dt, np.nan))
-            E["asw"].append(a - dt)
+        found = JS.joint_disparities(left, right, raw.left_px, body, rig.disparity_sign, rig.focal_px, rig.baseline_m, patch_m=0.06)
+        d_lo, d_hi = JS.reach_disparities(body, fb)
+        half = JS.patch_half_px(body, rig.baseline_m, float(os.environ.get("PATCH", "0.06")))
+        a = np.full(3, np.nan)
+        for j in range(3):
+            m = asw_match(left, right, int(round(raw.left_px[j, 0])), int(round(raw.left_px[j, 1])), d_lo, d_hi, rig.disparity_sign, half)
+            if m is not None:
+                a[j] = rig.disparity_sign * m
+        E["ncc"].append(np.where(found.matched, found.disparity_px - dt, np.nan))
+        E["asw"].append(a - dt)
 for key, v in E.items():
     v = np.array(v)
     ab = np.abs(v)

@@ -1,9 +1,9 @@
 """Families (default only) with the given arm's joint matches taken as the median of a grid of patches (GRID_JOINTS; FALLBACK=1: only where the single patch does not match). Run on the previous main (PYTHONPATH=a worktree of 3290069): it patches joint_stereo.joint_disparities."""
-import math, os, sys, tempfile
-from pathlib import Path
+import os, sys
 import numpy as np
 sys.path.insert(0, "tests/perception")
-import scene_families as sf
+sys.path.insert(0, "docs/issue11/session33/scripts")
+from fam import summary, tally_default  # noqa: E402
 from dip3d_vehicle.perception import joint_stereo as JS
 STEP_M = float(os.environ.get("STEP_M", "0.02")); JOINTS = [int(c) for c in os.environ.get("GRID_JOINTS", "0")]
 MIN_N = int(os.environ.get("MIN_N", "3"))
@@ -36,13 +36,5 @@ JS.joint_disparities = joint_disparities
 n, seed0 = int(sys.argv[1]), int(sys.argv[2])
 noise = tuple(float(x) for x in sys.argv[3].split(","))
 over = sys.argv[4:]
-tally = sf.Tally()
-with tempfile.TemporaryDirectory() as tmp:
-    for family in sf.FAMILIES:
-        sf.tally_family(Path(tmp), family, n, 8, seed0, noise_px=noise, profiles=("default",), tally=tally, overrides=over)
-for s in noise:
-    det = tally.merged("default", s, ("line_of_sight", "far", "elbow", "far_diver"))
-    und = tally.merged("default", s, ("undetectable",))
-    allc = tally.merged("default", s)
-    print(f"{seed0} grid {JOINTS} step {STEP_M} min {MIN_N} {' '.join(over)} noise {s}: detectable {det} correct {sf.rate(det,'correct'):.1%}; undetectable {sf.rate(und,'correct'):.1%} {und}; conf wrong {sf.rate(allc,'confident_wrong'):.2%}")
-print(sf.report(tally, noise_px=noise))
+print(summary(tally_default(n, seed0, noise, over), f"{seed0} grid {JOINTS} step {STEP_M} min {MIN_N} {' '.join(over)}",
+              noise))

@@ -1,9 +1,10 @@
 """Families at given noise with the arm's joint disparities replaced by the truth's (oracle), sigma ORACLE_SIGMA px."""
-import os, sys, tempfile, dataclasses
-from pathlib import Path
+import os, sys, dataclasses
 import numpy as np
 sys.path.insert(0, "tests/perception")
 import scene_families as sf
+sys.path.insert(0, "docs/issue11/session33/scripts")
+from fam import summary, tally_default  # noqa: E402
 from dip3d_vehicle.perception import pipeline as P
 
 SIG = float(os.environ.get("ORACLE_SIGMA", "0.3"))
@@ -36,13 +37,4 @@ def estimate_arm(self, l, r):
 P.Perception.estimate_arm = estimate_arm
 n, seed0 = int(sys.argv[1]), int(sys.argv[2])
 noise = tuple(float(x) for x in sys.argv[3].split(","))
-tally = sf.Tally()
-with tempfile.TemporaryDirectory() as tmp:
-    for family in sf.FAMILIES:
-        sf.tally_family(Path(tmp), family, n, 8, seed0, noise_px=noise, profiles=("default",), tally=tally)
-for s in noise:
-    det = tally.merged("default", s, ("line_of_sight", "far", "elbow", "far_diver"))
-    und = tally.merged("default", s, ("undetectable",))
-    allc = tally.merged("default", s)
-    print(f"sigma {SIG} noise {s}: detectable {det} correct {sf.rate(det,'correct'):.1%}; undetectable {sf.rate(und,'correct'):.1%}; conf wrong {sf.rate(allc,'confident_wrong'):.2%}")
-print(sf.report(tally))
+print(summary(tally_default(n, seed0, noise), f"sigma {SIG}", noise))

@@ -2,8 +2,9 @@
 import sys, tempfile, json
 from pathlib import Path
 import numpy as np
-sys.path.insert(0, "tests/perception")
+sys.path.insert(0, "tests/perception"); sys.path.insert(0, "docs/issue11/session23/scripts")
 import scene_families as sf
+import draws as dr
 from dip3d_vehicle.perception import pipeline as P
 n, seed0, noise = int(sys.argv[1]), int(sys.argv[2]), float(sys.argv[3])
 fams = sys.argv[4].split(",") if len(sys.argv) > 4 else ["line_of_sight", "far", "elbow", "far_diver"]
@@ -18,10 +19,7 @@ with tempfile.TemporaryDirectory() as tmp:
         for k, scene in enumerate(sf.scenes(Path(tmp), fam, n, seed0)):
             truth = scene.frame.meta["keypoints_truth"]
             rig, left, right, pose, perception, arm, base = sf.prepared(scene, "default", ())
-            names = ("shoulder", "elbow", "wrist")
-            L = rig.to_rectified(np.array([truth["left"][j] for j in names], float), "left")
-            R = rig.to_rectified(np.array([truth["right"][j] for j in names], float), "right")
-            dt = L[:, 0] - R[:, 0]
+            dt = dr.truth_disparities(rig, truth)
             rng = np.random.default_rng(seed0 + k)
             for sigma in (noise,):
                 for _ in range(8 if sigma > 0 else 1):

@@ -20,10 +20,7 @@ rows = []
 with tempfile.TemporaryDirectory() as tmp:
     for k, scene in enumerate(sf.scenes(Path(tmp), fam, n, seed0)):
         rig, left, right, pose, perception, _, base = sf.prepared(scene, "default", ())
-        truth = scene.frame.meta["keypoints_truth"]; names = ("shoulder", "elbow", "wrist")
-        L = rig.to_rectified(np.array([truth["left"][j] for j in names], float), "left")
-        R = rig.to_rectified(np.array([truth["right"][j] for j in names], float), "right")
-        dt = L[:, 0] - R[:, 0]
+        dt = dr.truth_disparities(rig, scene.frame.meta["keypoints_truth"])
         for d, kp, joints in dr.draws(scene, seed0, k, 2.0):
             pose.provide(kp); cap.clear()
             perception.estimate_arm(left, right)
