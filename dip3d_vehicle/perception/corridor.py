@@ -83,8 +83,10 @@ class CorridorDetector:
     def __init__(self, half_angle_rad: float = 0.2, start_px: float = 40.0, min_half_width_px: float = 40.0,
                  image_scale: float = 0.5, contrast_threshold: float = 0.01, clahe_clip: float = 3.0,
                  lowe_ratio: float = 0.6, row_tolerance_px: float = 1.5, min_disparity_px: float = 0.5,
-                 min_depth_m: float = 1.0, max_area_px: float = 300_000.0, tiles: int = 4) -> None:
+                 min_depth_m: float = 1.0, max_area_px: float = 300_000.0, tiles: int = 4, zoom_boxes: int = 0,
+                 zoom_scale: float = 1.0) -> None:
         self.half_angle_rad, self.start_px, self.min_half_width_px = half_angle_rad, start_px, min_half_width_px
+        self.zoom_boxes, self.zoom_scale = int(zoom_boxes), zoom_scale
         self.image_scale, self.lowe_ratio = image_scale, lowe_ratio
         self.row_tolerance_px, self.min_disparity_px, self.min_depth_m = row_tolerance_px, min_disparity_px, min_depth_m
         self.max_area_px, self.tiles = max_area_px, tiles
@@ -104,7 +106,8 @@ class CorridorDetector:
                    params["corridor.sift_contrast_threshold"], params["corridor.clahe_clip"],
                    params["candidates.lowe_ratio"], params["candidates.row_tolerance_px"],
                    params["candidates.min_disparity_px"], params["corridor.min_depth_m"],
-                   params["corridor.max_area_px"])
+                   params["corridor.max_area_px"], zoom_boxes=params["corridor.zoom_boxes"],
+                   zoom_scale=params["corridor.zoom_scale"])
 
     def detect(self, left_rect: np.ndarray, right_rect: np.ndarray, arm: ArmKeypoints, rig: StereoRig) -> Candidates:
         """Return the matches found inside the corridor (rectified px), with SIFT descriptors.
@@ -123,8 +126,35 @@ class CorridorDetector:
         if not boxes:
             return Candidates.empty()
         out = self._match_boxes(left_rect, right_rect, boxes, [_polygon_mask(poly, box) for box in boxes], rig, poly=poly)
+        out = self._zoomed(left_rect, right_rect, out, poly, rig)
         self.last_timings_ms = {"corridor": (time.perf_counter() - t0) * 1e3}
         return out
+
+    def _zoomed(self, left_rect: np.ndarray, right_rect: np.ndarray, found: Candidates, poly: np.ndarray,
+                rig: StereoRig) -> Candidates:
+        """Return ``found`` plus the matches of a closer look (``zoom_scale``) around its lone matches.
+
+        A small, faint, distant object gives the wedge's scan one or two matches, too few for an
+        object; a box around each such match (``zoom_boxes`` of them, nearest the wedge's axis first,
+        ``ZOOM_HALF_M`` each side at the match's depth, inside the wedge) is scanned again at
+        ``zoom_scale`` (coarser past ``ZOOM_MAX_AREA_PX``), its right box only within ``ZOOM_DEPTH_M`` of the
+        match's depth.
+        """
+        if self.zoom_boxes <= 0 or len(found) == 0:
+            return found
+        height, width = left_rect.shape[:2]
+        chosen = zoom_boxes(found, poly, rig.focal_px, rig.baseline_m, width, height, self.zoom_boxes)
+        if not chosen:
+            return found
+        boxes = [box for box, _ in chosen]
+        fb = rig.focal_px * rig.baseline_m
+        right_boxes = [_zoom_right_box(box, d, fb, width, rig.disparity_sign) for box, d in chosen]
+        area = sum((x1 - x0) * (y1 - y0) for x0, y0, x1, y1 in boxes) * self.zoom_scale ** 2 * 4.0
+        scale = self.zoom_scale * min(1.0, math.sqrt(ZOOM_MAX_AREA_PX / max(area, 1.0)))
+        masks = [_polygon_mask(poly, box) for box in boxes]
+        zoom = self._match_boxes(left_rect, right_rect, boxes, masks, rig, scale=scale, right_masks=[None] * len(boxes),
+                                 right_boxes=right_boxes)
+        return merge_candidates(found, zoom)
 
     def detect_beyond(self, left_rect: np.ndarray, right_rect: np.ndarray, arm: ArmKeypoints, rig: StereoRig,
                       scanned: np.ndarray) -> Candidates:
@@ -188,18 +218,20 @@ class CorridorDetector:
 
     def _match_boxes(self, left_rect: np.ndarray, right_rect: np.ndarray, boxes: list, masks: list,
                      rig: StereoRig, first: int = 0, poly: np.ndarray | None = None, scale: float | None = None,
-                     right_masks: list | None = None) -> Candidates:
+                     right_masks: list | None = None, right_boxes: list | None = None) -> Candidates:
         """Scan left boxes (with masks) and their right boxes widened by the disparity range; match along rows.
 
         ``first``: the left image's CLAHE / SIFT pair index (the right's is the next). ``poly``: the
         corridor's wedge (the right image is then scanned only where its matches can lie), or
-        ``right_masks`` given. ``scale``: by default from the boxes' area (``_scale``).
+        ``right_masks`` given. ``scale``: by default from the boxes' area (``_scale``). ``right_boxes``: by
+        default the left ones widened by the disparity range.
         """
         width = left_rect.shape[1]
         max_disp = rig.focal_px * rig.baseline_m / self.min_depth_m
         sign = rig.disparity_sign
         scale = self._scale(boxes) if scale is None else scale
-        right_boxes = self._right_boxes(boxes, width, max_disp, sign)
+        if right_boxes is None:
+            right_boxes = self._right_boxes(boxes, width, max_disp, sign)
         # right image: only where a left corridor feature's match can lie (the wedge swept over the
         # disparity range, widened): SIFT finds the same keypoints with a mask, and describes fewer
         if right_masks is None:
@@ -253,6 +285,82 @@ class CorridorDetector:
         pts = (pts + 0.5) / scale - 0.5
         pts += [x0, y0]
         return pts, desc.astype(np.float32)
+
+
+ZOOM_HALF_M = 0.3
+"""Half side (metres, at the lone match's depth) of a zoom box: a placard up to 0.3 m wide, the match anywhere on it."""
+
+ZOOM_MIN_DEPTH_M = 2.5
+"""Only lone matches at least this deep (metres) get a zoom box: nearer objects are large enough for the scans
+at their own scale."""
+
+ZOOM_MAX_AREA_PX = 80_000.0
+"""Cap on the pixels SIFT processes per image over all zoom boxes (after its internal doubling); past it they are
+scanned coarser."""
+
+ZOOM_DEPTH_M = 0.5
+"""How far (metres) in depth from its lone match a zoom box's object may lie: the right box covers those disparities."""
+
+ZOOM_LONE_FEATURES = 3
+"""A corridor match with fewer matches than this (itself included) within ``ZOOM_RADIUS_M`` at its depth is lone:
+too few for an object (``selection.min_object_features``)."""
+
+ZOOM_RADIUS_M = 0.15
+"""How near (metres, at the match's depth) another match must lie to count as the same object's (``selection.object_radius_m``)."""
+
+
+def zoom_boxes(found: Candidates, poly: np.ndarray, focal_px: float, baseline_m: float, width: int, height: int,
+               n_boxes: int) -> list[tuple[tuple[int, int, int, int], float]]:
+    """Return up to ``n_boxes`` (left-image box (x0, y0, x1, y1), px; the lone match's disparity magnitude, px)
+    around lone matches, nearest the wedge's axis first.
+
+    A match is lone with fewer than ``ZOOM_LONE_FEATURES`` matches (itself included) within ``ZOOM_RADIUS_M`` and at
+    a disparity within 10 % (at least 2 px); a match inside a box already chosen gets none of its own.
+    """
+    disparity = np.abs(found.disparity_px)
+    px_per_m = disparity / max(baseline_m, 1e-6)
+    far = disparity <= focal_px * baseline_m / ZOOM_MIN_DEPTH_M
+    tree = cKDTree(found.left_px)
+    lone = []
+    for i, near in enumerate(tree.query_ball_point(found.left_px, ZOOM_RADIUS_M * px_per_m)):
+        if not far[i]:
+            continue
+        same = np.abs(disparity[near] - disparity[i]) <= np.maximum(2.0, 0.1 * disparity[i])
+        if int(np.count_nonzero(same)) < ZOOM_LONE_FEATURES:
+            lone.append(i)
+    if not lone:
+        return []
+    start = 0.5 * (poly[0] + poly[3])
+    axis = 0.5 * (poly[1] + poly[2]) - start
+    axis = axis / max(float(np.linalg.norm(axis)), 1e-9)
+    rel = found.left_px[lone] - start
+    off_axis = np.abs(rel[:, 0] * axis[1] - rel[:, 1] * axis[0]) / np.maximum(rel @ axis, 1.0)
+    boxes: list[tuple[tuple[int, int, int, int], float]] = []
+    for k in np.argsort(off_axis, kind="stable"):
+        x, y = found.left_px[lone[k]]
+        if any(b[0] <= x < b[2] and b[1] <= y < b[3] for b, _ in boxes):
+            continue
+        half = float(np.clip(ZOOM_HALF_M * px_per_m[lone[k]], 24.0, 160.0))
+        box = _clip_box(np.array([[x - half, y - half], [x + half, y + half]]), width, height, margin_px=0)
+        if box is not None:
+            boxes.append((box, float(disparity[lone[k]])))
+        if len(boxes) == n_boxes:
+            break
+    return boxes
+
+
+def _zoom_right_box(box: tuple[int, int, int, int], disparity_px: float, focal_baseline_px_m: float, width: int,
+                    sign: int) -> tuple[int, int, int, int]:
+    """Return the right image's box for a zoom box: where a point within ``ZOOM_DEPTH_M`` of the lone match's depth
+    can lie (plus the row match's margin), px."""
+    depth = focal_baseline_px_m / max(disparity_px, 1e-6)
+    d_hi = focal_baseline_px_m / max(depth - ZOOM_DEPTH_M, 0.1)
+    d_lo = focal_baseline_px_m / (depth + ZOOM_DEPTH_M)
+    x0, y0, x1, y1 = box
+    margin = _RIGHT_MASK_GROW_PX
+    if sign > 0:
+        return int(max(0, x0 - d_hi - margin)), y0, int(min(width, x1 - d_lo + margin)), y1
+    return int(max(0, x0 + d_lo - margin)), y0, int(min(width, x1 + d_hi + margin)), y1
 
 
 def _pieces(poly: np.ndarray, n: int) -> list[np.ndarray]:
