@@ -4,7 +4,8 @@
 
 An empty string stands for the defaults. With ``LEVELS=fam`` in the environment the draws are ``fam.py``'s (the one
 noise level only); by default they are the full tables' (0, 1, 2, 4 px in turn). Prints scene, then per setting the outcome letters
-(c correct, a abstained, w wrong, W confidently wrong) and the median number of objects.
+(c correct, a abstained: ambiguous or pose rejected, n abstained: "nothing detected" won,
+w wrong, W confidently wrong) and the median number of objects.
 """
 import os
 import sys
@@ -32,7 +33,8 @@ with tempfile.TemporaryDirectory() as tmp:
                 for _ in range(8 if sigma > 0 else 1):
                     pose.provide(sf.noisy(truth, sigma, rng))
                     result = sf.decided(perception, left, right, base)
-                    outs.append(letter[sf.outcome(scene, result, rig)])
+                    what = letter[sf.outcome(scene, result, rig)]
+                    outs.append("n" if what == "a" and result.status == "nothing_on_ray" else what)
                     n_obj.append(len(result.selection.objects) if result.selection else 0)
                 if sigma == noise:
                     row.append(f"{''.join(outs)} obj{int(np.median(n_obj))}")

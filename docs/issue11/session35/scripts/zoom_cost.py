@@ -42,7 +42,6 @@ with tempfile.TemporaryDirectory() as tmp:
             off = timed(det, left, right, arm, rig)
             det.zoom_boxes = zoom
             on = timed(det, left, right, arm, rig)
-            found = det._match_boxes  # noqa: F841 (the count below re-runs the wedge once)
             poly = det.wedge(arm, left.shape[1], left.shape[0], rig)
             det.zoom_boxes = 0
             wedge = det.detect(left, right, arm, rig)
