@@ -75,13 +75,7 @@ def _objects_on_target(perception, arm, cands, scene_meta, target_id, rig) -> in
 
 def test_corridor_finds_the_far_faint_placard_the_main_pass_misses(tmp_path):
     """Without the corridor no candidate object lies on the placard; with it one does, and it is chosen."""
-    from sitl.render import StereoRenderer
-    from sitl.scenario import load_scenario
-    path = tmp_path / "far.yaml"
-    path.write_text(FAR_FAINT)
-    scenario = load_scenario(str(path), 0)
-    with StereoRenderer(scenario) as renderer:
-        frame = renderer.render(*scenario.initial_vehicle_pose, 2.0)
+    scenario, frame = _rendered(tmp_path, FAR_FAINT, 0)
     rig = scenario.rig()
     left, right = rig.rectify(frame.left, frame.right)
     pose = GivenKeypoints("right", frame.meta["keypoints_truth"])
