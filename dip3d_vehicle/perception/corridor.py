@@ -23,7 +23,7 @@ from .candidates import hand_extent_px, match_row_band
 from .threads import shared_pool
 from .values import ArmKeypoints, Candidates
 
-__all__ = ["CorridorDetector", "corridor_polygon", "merge_candidates"]
+__all__ = ["CorridorDetector", "corridor_polygon", "merge_candidates", "zoom_boxes"]
 
 
 def corridor_polygon(arm: ArmKeypoints, width: int, height: int, half_angle_rad: float,
@@ -84,9 +84,10 @@ class CorridorDetector:
                  image_scale: float = 0.5, contrast_threshold: float = 0.01, clahe_clip: float = 3.0,
                  lowe_ratio: float = 0.6, row_tolerance_px: float = 1.5, min_disparity_px: float = 0.5,
                  min_depth_m: float = 1.0, max_area_px: float = 300_000.0, tiles: int = 4, zoom_boxes: int = 0,
-                 zoom_scale: float = 1.0) -> None:
+                 zoom_scale: float = 1.0, object_features: int = 3, object_radius_m: float = 0.15) -> None:
         self.half_angle_rad, self.start_px, self.min_half_width_px = half_angle_rad, start_px, min_half_width_px
         self.zoom_boxes, self.zoom_scale = int(zoom_boxes), zoom_scale
+        self.object_features, self.object_radius_m = int(object_features), object_radius_m
         self.image_scale, self.lowe_ratio = image_scale, lowe_ratio
         self.row_tolerance_px, self.min_disparity_px, self.min_depth_m = row_tolerance_px, min_disparity_px, min_depth_m
         self.max_area_px, self.tiles = max_area_px, tiles
@@ -107,7 +108,8 @@ class CorridorDetector:
                    params["candidates.lowe_ratio"], params["candidates.row_tolerance_px"],
                    params["candidates.min_disparity_px"], params["corridor.min_depth_m"],
                    params["corridor.max_area_px"], zoom_boxes=params["corridor.zoom_boxes"],
-                   zoom_scale=params["corridor.zoom_scale"])
+                   zoom_scale=params["corridor.zoom_scale"], object_features=params["selection.min_object_features"],
+                   object_radius_m=params["selection.object_radius_m"])
 
     def detect(self, left_rect: np.ndarray, right_rect: np.ndarray, arm: ArmKeypoints, rig: StereoRig) -> Candidates:
         """Return the matches found inside the corridor (rectified px), with SIFT descriptors.
@@ -143,14 +145,14 @@ class CorridorDetector:
         if self.zoom_boxes <= 0 or len(found) == 0:
             return found
         height, width = left_rect.shape[:2]
-        chosen = zoom_boxes(found, poly, rig.focal_px, rig.baseline_m, width, height, self.zoom_boxes)
+        chosen = zoom_boxes(found, poly, rig.focal_px, rig.baseline_m, width, height, self.zoom_boxes,
+                            self.object_features, self.object_radius_m)
         if not chosen:
             return found
         boxes = [box for box, _ in chosen]
         fb = rig.focal_px * rig.baseline_m
         right_boxes = [_zoom_right_box(box, d, fb, width, rig.disparity_sign) for box, d in chosen]
-        area = sum((x1 - x0) * (y1 - y0) for x0, y0, x1, y1 in boxes) * self.zoom_scale ** 2 * 4.0
-        scale = self.zoom_scale * min(1.0, math.sqrt(ZOOM_MAX_AREA_PX / max(area, 1.0)))
+        scale = self._scale(boxes, self.zoom_scale, ZOOM_MAX_AREA_PX)
         masks = [_polygon_mask(poly, box) for box in boxes]
         zoom = self._match_boxes(left_rect, right_rect, boxes, masks, rig, scale=scale, right_masks=[None] * len(boxes),
                                  right_boxes=right_boxes)
@@ -205,10 +207,13 @@ class CorridorDetector:
             return Candidates.empty()
         return self._match_boxes(left_rect, right_rect, [(x0, y0, x1, y1)], [None], rig, first=2)
 
-    def _scale(self, boxes: list) -> float:
-        """Return the scale the corridor's boxes are scanned at (``image_scale``, coarser past ``max_area_px``)."""
-        area = sum((x1 - x0) * (y1 - y0) for x0, y0, x1, y1 in boxes) * self.image_scale ** 2 * 4.0
-        return self.image_scale * min(1.0, math.sqrt(self.max_area_px / max(area, 1.0)))
+    def _scale(self, boxes: list, image_scale: float | None = None, max_area_px: float | None = None) -> float:
+        """Return the scale boxes are scanned at: ``image_scale`` (the corridor's by default), coarser past
+        ``max_area_px`` SIFT pixels (after its doubling; the corridor's cap by default)."""
+        image_scale = self.image_scale if image_scale is None else image_scale
+        max_area_px = self.max_area_px if max_area_px is None else max_area_px
+        area = sum((x1 - x0) * (y1 - y0) for x0, y0, x1, y1 in boxes) * image_scale ** 2 * 4.0
+        return image_scale * min(1.0, math.sqrt(max_area_px / max(area, 1.0)))
 
     @staticmethod
     def _right_boxes(boxes: list, width: int, max_disp: float, sign: int) -> list:
@@ -301,32 +306,27 @@ scanned coarser."""
 ZOOM_DEPTH_M = 0.5
 """How far (metres) in depth from its lone match a zoom box's object may lie: the right box covers those disparities."""
 
-ZOOM_LONE_FEATURES = 3
-"""A corridor match with fewer matches than this (itself included) within ``ZOOM_RADIUS_M`` at its depth is lone:
-too few for an object (``selection.min_object_features``)."""
-
-ZOOM_RADIUS_M = 0.15
-"""How near (metres, at the match's depth) another match must lie to count as the same object's (``selection.object_radius_m``)."""
-
 
 def zoom_boxes(found: Candidates, poly: np.ndarray, focal_px: float, baseline_m: float, width: int, height: int,
-               n_boxes: int) -> list[tuple[tuple[int, int, int, int], float]]:
+               n_boxes: int, object_features: int = 3, object_radius_m: float = 0.15
+               ) -> list[tuple[tuple[int, int, int, int], float]]:
     """Return up to ``n_boxes`` (left-image box (x0, y0, x1, y1), px; the lone match's disparity magnitude, px)
-    around lone matches, nearest the wedge's axis first.
+    around lone matches at least ``ZOOM_MIN_DEPTH_M`` deep, nearest the wedge's axis first (by angle from the wrist).
 
-    A match is lone with fewer than ``ZOOM_LONE_FEATURES`` matches (itself included) within ``ZOOM_RADIUS_M`` and at
-    a disparity within 10 % (at least 2 px); a match inside a box already chosen gets none of its own.
+    A match is lone, too few for an object, with fewer than ``object_features`` matches (itself included) within
+    ``object_radius_m`` (metres at its depth; the selector's ``min_object_features`` and ``object_radius_m``) at a
+    disparity within 10 % (at least 2 px); a match inside a box already chosen gets none of its own.
     """
     disparity = np.abs(found.disparity_px)
     px_per_m = disparity / max(baseline_m, 1e-6)
     far = disparity <= focal_px * baseline_m / ZOOM_MIN_DEPTH_M
     tree = cKDTree(found.left_px)
     lone = []
-    for i, near in enumerate(tree.query_ball_point(found.left_px, ZOOM_RADIUS_M * px_per_m)):
+    for i, near in enumerate(tree.query_ball_point(found.left_px, object_radius_m * px_per_m)):
         if not far[i]:
             continue
         same = np.abs(disparity[near] - disparity[i]) <= np.maximum(2.0, 0.1 * disparity[i])
-        if int(np.count_nonzero(same)) < ZOOM_LONE_FEATURES:
+        if int(np.count_nonzero(same)) < object_features:
             lone.append(i)
     if not lone:
         return []
@@ -334,7 +334,7 @@ def zoom_boxes(found: Candidates, poly: np.ndarray, focal_px: float, baseline_m:
     axis = 0.5 * (poly[1] + poly[2]) - start
     axis = axis / max(float(np.linalg.norm(axis)), 1e-9)
     rel = found.left_px[lone] - start
-    off_axis = np.abs(rel[:, 0] * axis[1] - rel[:, 1] * axis[0]) / np.maximum(rel @ axis, 1.0)
+    off_axis = np.abs(rel[:, 0] * axis[1] - rel[:, 1] * axis[0]) / np.maximum(rel @ axis, 1.0)   # angle's tangent
     boxes: list[tuple[tuple[int, int, int, int], float]] = []
     for k in np.argsort(off_axis, kind="stable"):
         x, y = found.left_px[lone[k]]
