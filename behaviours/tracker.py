@@ -3,8 +3,8 @@
 The target is remembered by its appearance (the SIFT descriptors of its member features) and its 3D
 centre. In each new frame the full-frame matched features (no arm mask: the diver no longer matters)
 are grouped into objects (``group_objects``, as the selector does); the target is the object with
-the most descriptor matches to the model (Lowe's ratio test) whose centre lies inside a gate around
-the predicted centre. The prediction moves the last centre by the commanded vehicle motion since
+the most descriptor matches to the model (Lowe's ratio test; each model descriptor counts once) whose
+centre lies inside a gate around the predicted centre. The prediction moves the last centre by the commanded vehicle motion since
 then (yaw turns the scene about the camera's vertical axis, surge/heave translate it); the gate
 grows with the time since the last sighting. The model keeps the first sighting's descriptors (the
 identity) plus the latest sighting's (the appearance up close). A target too small for that count (a
@@ -66,6 +66,15 @@ class TrackedTarget:
     matches: int
     stamp_s: float
     obj: ObjectCandidate
+
+
+def _distinct(model_index: np.ndarray) -> int:
+    """Return how many distinct model descriptors the features match (``model_index``: -1 for none).
+
+    Each model descriptor counts once: several features of a big, self-similar object that all match the same
+    few descriptors of a small target's model are not several matches.
+    """
+    return int(np.count_nonzero(np.unique(model_index) >= 0))
 
 
 def _anchor_matches(min_matches: int) -> int:
@@ -199,17 +208,18 @@ class TargetTracker:
         if not objects:
             return None
         # each part of the model separately: the same feature in both would defeat the ratio test
-        first = self._matched_features(self._first, candidates.descriptors)
-        matched = first.copy()
-        if len(self._latest) >= 2:
-            matched |= self._matched_features(self._latest, candidates.descriptors)
+        first = self._matched_descriptors(self._first, candidates.descriptors)
+        latest = (self._matched_descriptors(self._latest, candidates.descriptors) if len(self._latest) >= 2
+                  else np.full(len(candidates), -1))
         since = stamp_s - (self.last_seen_s if self.last_seen_s is not None else stamp_s)
         gate = min(c.gate_m + c.gate_growth_m_s * max(since, 0.0), c.gate_max_m)
-        counts = [int(np.count_nonzero(matched[list(obj.members)])) for obj in objects]
+        anchors = [_distinct(first[list(obj.members)]) for obj in objects]
+        # a feature matched by both parts counts once, by its first-sighting match
+        latest = np.where(first >= 0, -1, latest)
+        counts = [a + _distinct(latest[list(obj.members)]) for a, obj in zip(anchors, objects)]
         distances = [float(np.linalg.norm(obj.xyz_m - predicted)) for obj in objects]
         best, best_key, best_count = None, (0, 0), 0
-        for obj, count, distance in zip(objects, counts, distances):
-            anchored = int(np.count_nonzero(first[list(obj.members)]))
+        for obj, anchored, count, distance in zip(objects, anchors, counts, distances):
             # identity is anchored on the first sighting: the latest model only adds support, so one
             # wrong acceptance cannot carry the track over to a neighbouring object
             if count < c.min_matches or anchored < _anchor_matches(c.min_matches) or distance > gate:
@@ -241,13 +251,13 @@ class TargetTracker:
             return None, 0
         return objects[inside[0]], counts[inside[0]]
 
-    def _matched_features(self, model: np.ndarray, frame_desc: np.ndarray) -> np.ndarray:
-        """Return a boolean per frame feature: it matches a model descriptor (ratio test)."""
-        out = np.zeros(len(frame_desc), bool)
+    def _matched_descriptors(self, model: np.ndarray, frame_desc: np.ndarray) -> np.ndarray:
+        """Return per frame feature the index of the model descriptor it matches (ratio test), or -1."""
+        out = np.full(len(frame_desc), -1)
         if len(frame_desc) < 2:
             return out
         pairs = self._matcher.knnMatch(np.asarray(frame_desc, np.float32), model, k=2)
         for m in pairs:
             if len(m) == 2 and m[0].distance < self.config.ratio * m[1].distance:
-                out[m[0].queryIdx] = True
+                out[m[0].queryIdx] = m[0].trainIdx
         return out

@@ -130,3 +130,31 @@ def test_a_small_target_with_one_descriptor_match_is_kept_only_when_it_is_alone_
     assert tracker_with_model().update(two, two_xyz, 0.2) is None
     many, many_xyz = frame_with([target + [0.05, 0.0, 0.0]], 4)
     assert tracker_with_model().update(many, many_xyz, 0.2) is not None
+
+
+def test_features_that_match_the_same_few_model_descriptors_count_once():
+    """A target of three features has a model of three descriptors. A big self-similar object whose seven
+    features all match those three is three matches, not seven: under the identity test's four, so the track does
+    not walk to it (variant_12_05 seed 1 with the corridor's zoom, issue 11 session 35). Seven features matching
+    seven distinct descriptors of a seven-descriptor model still pass."""
+    from dip3d_vehicle.perception.values import ObjectCandidate
+
+    rig = load_scenario("paper_pool", 0).rig()
+    target = np.array([0.44, -0.2, 2.95])
+    elsewhere = target + [0.4, 0.0, 0.0]  # inside the gate (0.5 m), beyond near_m (0.25 m)
+
+    def tracker_with_model(n: int) -> tuple[TargetTracker, np.ndarray]:
+        cands, _ = _scene([target], n, rig)
+        t = TargetTracker(TrackerConfig(), rig)
+        t.start(ObjectCandidate(cands.left_px.mean(axis=0), target, 0.02, tuple(range(n))), cands, 0.0)
+        return t, cands.descriptors
+
+    small, model = tracker_with_model(3)
+    frame, xyz = _scene([elsewhere], 7, rig, seed=11)
+    frame.descriptors[:] = model[[0, 1, 2, 0, 1, 2, 0]]
+    assert small.update(frame, xyz, 0.2) is None
+    big, model = tracker_with_model(7)
+    frame, xyz = _scene([elsewhere], 7, rig, seed=11)
+    frame.descriptors[:] = model
+    found = big.update(frame, xyz, 0.2)
+    assert found is not None and found.matches == 7
