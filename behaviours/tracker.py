@@ -4,8 +4,9 @@ The target is remembered by its appearance (the SIFT descriptors of its member f
 centre. In each new frame the full-frame matched features (no arm mask: the diver no longer matters)
 are grouped into objects (``group_objects``, as the selector does); the target is the object with
 the most descriptor matches to the model (Lowe's ratio test; each model descriptor counts once) whose
-centre lies inside a gate around the predicted centre. The prediction moves the last centre by the commanded vehicle motion since
-then (yaw turns the scene about the camera's vertical axis, surge/heave translate it); the gate
+centre lies inside a gate around the predicted centre. The prediction moves the last centre by the
+commanded vehicle motion since then (yaw turns the scene about the camera's vertical axis,
+surge/heave translate it); the gate
 grows with the time since the last sighting. The model keeps the first sighting's descriptors (the
 identity) plus the latest sighting's (the appearance up close). A target too small for that count (a
 few features) is still taken when it is the only object in the gate, near the prediction, and shares a
@@ -213,10 +214,11 @@ class TargetTracker:
                   else np.full(len(candidates), -1))
         since = stamp_s - (self.last_seen_s if self.last_seen_s is not None else stamp_s)
         gate = min(c.gate_m + c.gate_growth_m_s * max(since, 0.0), c.gate_max_m)
-        anchors = [_distinct(first[list(obj.members)]) for obj in objects]
+        members = [list(obj.members) for obj in objects]
+        anchors = [_distinct(first[m]) for m in members]
         # a feature matched by both parts counts once, by its first-sighting match
         latest = np.where(first >= 0, -1, latest)
-        counts = [a + _distinct(latest[list(obj.members)]) for a, obj in zip(anchors, objects)]
+        counts = [a + _distinct(latest[m]) for a, m in zip(anchors, members)]
         distances = [float(np.linalg.norm(obj.xyz_m - predicted)) for obj in objects]
         best, best_key, best_count = None, (0, 0), 0
         for obj, anchored, count, distance in zip(objects, anchors, counts, distances):
