@@ -23,6 +23,7 @@ from .fusion import FusedDecision, PointFusion
 from .close_in import CloseInStep
 from .second_look import LookStep
 from .tracker import TargetTracker, TrackedTarget
+from .weak_lean import WeakLean
 
 __all__ = ["BehaviourConfig", "TrackFrame", "Observation", "StatusText", "SetServo", "Blackboard"]
 
@@ -108,6 +109,7 @@ class BehaviourConfig:
     close_in_max_descent_m: float = 0.0
     close_in_weak_one_look: float = 0.6
     close_in_weak_min_error_cut: float = 0.33
+    weak_look_again: bool = True
     shake_yaw_rate_rad_s: float = 0.35
     shake_swing_s: float = 0.4
     stop_gesture: bool = True
@@ -186,7 +188,8 @@ class Blackboard:
     of each decision the mission acted on: a target chosen or "nothing there", in order; the last
     ``DECIDED_KEPT``); ``look_step`` / ``second_looks`` (the planned second
     look and how many this point has had); ``close_in_step`` / ``close_ins`` (the planned advance
-    toward a far diver and how many this point has had).
+    toward a far diver and how many this point has had); ``weak_lean`` (a weak decision's winner
+    carried across the move made before acting on it, ``weak_lean.py``; None: none).
     """
 
     config: BehaviourConfig
@@ -210,6 +213,7 @@ class Blackboard:
     second_looks: int = 0
     close_in_step: CloseInStep | None = None
     close_ins: int = 0
+    weak_lean: WeakLean | None = None
     target: TrackedTarget | None = None
     errors: ServoErrors | None = None
     arrived: bool = False

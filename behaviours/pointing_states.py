@@ -21,6 +21,7 @@ from .evidence import VoteBox, angular_spread_rad, image_direction
 from .fusion import NONE, FrameEvidence, FusedDecision, PointFusion
 from .mission_state import MissionState, arm_raised, new_result
 from .second_look import LookStep, plan_second_look
+from .weak_lean import WeakLean, is_weak, nearest_key
 
 __all__ = ["WaitForDiver", "ConfirmPoint", "SelectTarget", "SecondLook", "CloseIn"]
 
@@ -43,6 +44,7 @@ def _fuse_frame(bb: Blackboard, result, direction) -> FrameEvidence | None:
         if angular_spread_rad([mean, direction]) * 2 > c.steady_angle_rad and fusion.frames:
             bb.say(f"pointing moved: fused evidence of {len(fusion.frames)} frames restarted")
             fusion.reset()
+            bb.weak_lean = None
     arm_frames = 1
     if bb.decide_held is not None and c.fusion_arm_frames > 1 and result.arm is not None \
             and result.status in ("ok", "nothing_on_ray"):
@@ -78,6 +80,7 @@ class WaitForDiver(MissionState):
         bb.fusion = None  # a new point starts its evidence afresh
         bb.second_looks = 0
         bb.close_ins = 0
+        bb.weak_lean = None
         self.history: deque[bool] = deque(maxlen=bb.config.arm_seen_m)
 
     def tick(self, bb: Blackboard) -> str | None:
@@ -155,7 +158,10 @@ class SelectTarget(_ArmWatch):
     winner within ``behaviour.select_timeout_s``: the diver farther than ``behaviour.decide_max_range_m``
     -> ``close_in`` (while tries are left and a safe advance exists); a winner that is weak counted as
     one look with the diver farther than ``behaviour.decide_max_range_m`` -> ``close_in`` first
-    (``weak_close_in_step``); two objects close ->
+    (``weak_close_in_step``); else a weak winner takes a second look first when a step separates it from
+    the strongest other object (``behaviour.weak_look_again``, ``weak_look_step``); after such a move a
+    weak winner that is not the one before the move is not acted on (``views_disagree``: undecided,
+    ambiguous at the timeout); two objects close at the timeout ->
     ``second_look`` (while tries are left and a step separates them); else ``ambiguous``.
     """
 
@@ -168,6 +174,7 @@ class SelectTarget(_ArmWatch):
         self.box = VoteBox(bb.config.vote_radius_m)
         self.added = 0
         self.last_arm3d = None
+        self.disagreed = False
 
     def tick(self, bb: Blackboard) -> str | None:
         c = bb.config
@@ -187,13 +194,12 @@ class SelectTarget(_ArmWatch):
             return None
         decision = bb.fusion.decide(c.fusion_min_posterior, c.min_votes)
         bb.decision = decision
-        if decision.kind == "undecided":
+        if decision.kind == "undecided" or self.views_disagree(bb, decision):
             return None
         _tell_decision(bb, decision)
-        advance = self.weak_close_in_step(bb, decision)
-        if advance is not None:
-            bb.close_in_step = advance
-            return "close_in"
+        move = self.move_before_weak(bb, decision)
+        if move is not None:
+            return move
         bb.decided.append(decision.record(bb.now_s))
         if decision.kind == "none":
             return "nothing_there"
@@ -224,7 +230,8 @@ class SelectTarget(_ArmWatch):
         if step is not None:
             bb.look_step = step
             return "second_look"
-        bb.say(f"ambiguous: {decision.reason}", "notice", pilot=True)
+        why = "the views before and after the move lean to different objects" if self.disagreed else decision.reason
+        bb.say(f"ambiguous: {why}", "notice", pilot=True)
         return "ambiguous"
 
     def close_in_step(self, bb: Blackboard) -> CloseInStep | None:
@@ -268,6 +275,56 @@ class SelectTarget(_ArmWatch):
                f"(< {c.close_in_weak_one_look:g}): closer before deciding", "notice", pilot=True)
         return step
 
+    def move_before_weak(self, bb: Blackboard, decision: FusedDecision) -> str | None:
+        """Return the move to make before acting on a weak object decision ("close_in", "second_look"), or None.
+
+        The weak winner is kept on the blackboard (``bb.weak_lean``) to be compared from the new view.
+        """
+        c = bb.config
+        advance = self.weak_close_in_step(bb, decision)
+        if advance is not None:
+            bb.close_in_step = advance
+            if c.weak_look_again:
+                bb.weak_lean = WeakLean.of(decision)
+            return "close_in"
+        if not c.weak_look_again or bb.weak_lean is not None or not is_weak(decision, c.close_in_weak_one_look):
+            return None
+        step = self.weak_look_step(bb, decision)
+        if step is None:
+            return None
+        bb.look_step, bb.weak_lean = step, WeakLean.of(decision)
+        bb.say(f"{decision.best} only {decision.one_look:.2f} counted as one look (< {c.close_in_weak_one_look:g}): "
+               f"a second look before deciding", "notice", pilot=True)
+        return "second_look"
+
+    def weak_look_step(self, bb: Blackboard, decision: FusedDecision) -> LookStep | None:
+        """Return the second look's step between a weak winner and the strongest other object, or None.
+
+        Any step that keeps them and the diver in view will do (the one that sets them farthest apart): the
+        new view is wanted for the arm's own errors, which differ from there, not only to see two objects
+        apart. None when the point's second looks are used up, no other object was seen or no step fits.
+        """
+        if bb.second_looks >= bb.config.second_look_max_tries:
+            return None
+        post = decision.one_look_posterior
+        others = sorted((k for k in post if k not in (decision.best, NONE)), key=post.get, reverse=True)
+        return self.separating_step(bb, decision.best, others[0], -math.inf) if others else None
+
+    def views_disagree(self, bb: Blackboard, decision: FusedDecision) -> bool:
+        """True when a weak winner is not the weak winner seen before the last move (said once per state)."""
+        c, lean = bb.config, bb.weak_lean
+        if not c.weak_look_again or lean is None or not lean.moves or not is_weak(decision, c.close_in_weak_one_look):
+            return False
+        near = nearest_key(bb.fusion.hypotheses, lean.xyz_m)
+        if near == decision.best:
+            return False
+        if not self.disagreed:
+            self.disagreed = True
+            bb.say(f"{decision.best} only {decision.one_look:.2f} counted as one look after the {' and '.join(lean.moves)}, "
+                   f"and before it {lean.key} ({lean.one_look:.2f}), here {near}, led: the two views disagree, "
+                   f"not acting", "notice", pilot=True)
+        return True
+
     def look_step(self, bb: Blackboard, decision: FusedDecision) -> LookStep | None:
         """Return the second look's step when two objects are close and a step separates them, else None."""
         c, post = bb.config, decision.posterior
@@ -276,14 +333,21 @@ class SelectTarget(_ArmWatch):
             return None
         if min(post[decision.best], post[decision.second]) < c.second_look_min_p:
             return None
-        arm3d = self.last_arm3d
-        if arm3d is None:
+        return self.separating_step(bb, decision.best, decision.second)
+
+    def separating_step(self, bb: Blackboard, key_a: str, key_b: str, min_gain_rad: float = 0.01) -> LookStep | None:
+        """Return the step that best separates two object hypotheses with the diver kept in view, or None.
+
+        None also when no step opens their separation by ``min_gain_rad`` (radians).
+        """
+        c, arm3d = bb.config, self.last_arm3d
+        a, b = bb.fusion.hypothesis(key_a), bb.fusion.hypothesis(key_b)
+        if arm3d is None or a is None or b is None:
             return None
-        a, b = bb.fusion.hypothesis(decision.best), bb.fusion.hypothesis(decision.second)
         step = plan_second_look(a.xyz_m, b.xyz_m, arm3d.xyz_m[[0, 2]], c.second_look_step_m, bb.servo.focal_px,
-                                bb.servo.principal_point_px, c.second_look_margin_px)
+                                bb.servo.principal_point_px, c.second_look_margin_px, min_gain_rad)
         if step is None:
-            bb.say(f"{decision.best} and {decision.second} close, but no step keeps all in view and separates them")
+            bb.say(f"{key_a} and {key_b} close, but no step keeps all in view and separates them")
         return step
 
 
@@ -307,6 +371,8 @@ class _MoveThenDecide(_ArmWatch):
         step = self.take_step(bb)
         if step is not None:
             self.start_move(bb, step)
+        if bb.weak_lean is not None:  # a weak winner to compare from the new view: where it will be seen
+            bb.weak_lean = bb.weak_lean.moved(step.offset_m if step is not None else (0.0, 0.0, 0.0), self.name)
 
     def take_step(self, bb: Blackboard) -> LookStep | CloseInStep | None:
         """Count this try on the blackboard and return its planned step (None: nothing planned)."""
