@@ -21,7 +21,7 @@ from .evidence import VoteBox, angular_spread_rad, image_direction
 from .fusion import NONE, FrameEvidence, FusedDecision, PointFusion
 from .mission_state import MissionState, arm_raised, new_result
 from .second_look import LookStep, plan_second_look
-from .weak_lean import WeakLean, is_weak, nearest_key
+from .weak_lean import WeakLean, is_weak, nearest
 
 __all__ = ["WaitForDiver", "ConfirmPoint", "SelectTarget", "SecondLook", "CloseIn"]
 
@@ -158,8 +158,8 @@ class SelectTarget(_ArmWatch):
     winner within ``behaviour.select_timeout_s``: the diver farther than ``behaviour.decide_max_range_m``
     -> ``close_in`` (while tries are left and a safe advance exists); a winner that is weak counted as
     one look with the diver farther than ``behaviour.decide_max_range_m`` -> ``close_in`` first
-    (``weak_close_in_step``); else a weak winner takes a second look first when a step separates it from
-    the strongest other object (``behaviour.weak_look_again``, ``weak_look_step``); after such a move a
+    (``weak_close_in_step``); else a weak winner takes a second look first when a step keeps it, the
+    strongest other object and the diver in view (``behaviour.weak_look_again``, ``weak_look_step``); after such a move a
     weak winner that is not the one before the move is not acted on (``views_disagree``: undecided,
     ambiguous at the timeout); two objects close at the timeout ->
     ``second_look`` (while tries are left and a step separates them); else ``ambiguous``.
@@ -269,7 +269,7 @@ class SelectTarget(_ArmWatch):
         cut = 1.0 - (step.range_after_m / max(step.range_before_m, 1e-9)) ** 2
         if cut < c.close_in_weak_min_error_cut:
             bb.say(f"{decision.best} only {decision.one_look:.2f} counted as one look, but closing in "
-                   f"{step.distance_m:.2f} m would cut the arm's depth error by {cut:.0%} only: deciding")
+                   f"{step.distance_m:.2f} m would cut the arm's depth error by {cut:.0%} only: not closing in")
             return None
         bb.say(f"{decision.best} only {decision.one_look:.2f} counted as one look "
                f"(< {c.close_in_weak_one_look:g}): closer before deciding", "notice", pilot=True)
@@ -311,18 +311,26 @@ class SelectTarget(_ArmWatch):
         return self.separating_step(bb, decision.best, others[0], -math.inf) if others else None
 
     def views_disagree(self, bb: Blackboard, decision: FusedDecision) -> bool:
-        """True when a weak winner is not the weak winner seen before the last move (said once per state)."""
+        """True when a weak winner is not the weak winner seen before the last move (said once per state).
+
+        The same: the object hypothesis nearest where that winner should be seen from here, within
+        ``behaviour.vote_radius_m`` of it.
+        """
         c, lean = bb.config, bb.weak_lean
         if not c.weak_look_again or lean is None or not lean.moves or not is_weak(decision, c.close_in_weak_one_look):
             return False
-        near = nearest_key(bb.fusion.hypotheses, lean.xyz_m)
-        if near == decision.best:
+        near, dist_m = nearest(bb.fusion.hypotheses, lean.xyz_m)
+        if near == decision.best and dist_m <= c.vote_radius_m:
+            bb.say(f"{near} leads again from the new view ({decision.one_look:.2f} counted as one look), {dist_m:.2f} m "
+                   f"from where {lean.key} was expected: the two views agree")
             return False
         if not self.disagreed:
             self.disagreed = True
-            bb.say(f"{decision.best} only {decision.one_look:.2f} counted as one look after the {' and '.join(lean.moves)}, "
-                   f"and before it {lean.key} ({lean.one_look:.2f}), here {near}, led: the two views disagree, "
-                   f"not acting", "notice", pilot=True)
+            moves = " and ".join(m.replace("_", " ") for m in lean.moves)
+            bb.say(f"{decision.best} leads only {decision.one_look:.2f} counted as one look after the {moves}; before it "
+                   f"{lean.key} led ({lean.one_look:.2f}), {near} ({dist_m:.2f} m off) from here: the two views disagree, "
+                   f"not acting",
+                   "notice", pilot=True)
         return True
 
     def look_step(self, bb: Blackboard, decision: FusedDecision) -> LookStep | None:

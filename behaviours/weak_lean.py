@@ -8,7 +8,8 @@ session 36). Before acting on one the mission makes the one bounded move it may 
 a second look) and decides again from the new viewpoint with fresh frames. The weak winner is kept
 here, its position moved into the camera frame after the move (the vehicle keeps its heading, so a
 still point moves by minus the camera's offset). A weak decision from the new view is acted on only
-when its winner is the hypothesis nearest that prediction: two views agree. A clear decision from
+when its winner is the hypothesis nearest that prediction and within ``behaviour.vote_radius_m`` of it
+(the radius within which the fusion takes a sighting for the same object): two views agree. A clear decision from
 the new view is acted on whatever the old lean said.
 
 Pure data and geometry in the rectified left camera frame (metres): no clock, no link.
@@ -22,7 +23,7 @@ import numpy as np
 
 from .fusion import FusedDecision, Hypothesis
 
-__all__ = ["WeakLean", "is_weak", "nearest_key"]
+__all__ = ["WeakLean", "is_weak", "nearest"]
 
 
 @dataclass(frozen=True)
@@ -56,9 +57,11 @@ def is_weak(decision: FusedDecision, weak_one_look: float) -> bool:
     return decision.kind == "object" and decision.one_look is not None and decision.one_look < weak_one_look
 
 
-def nearest_key(hypotheses: list[Hypothesis], xyz_m) -> str | None:
-    """Return the key of the object hypothesis nearest ``xyz_m`` (camera frame, m), or None when there is none."""
-    if not hypotheses:
-        return None
+def nearest(hypotheses: list[Hypothesis], xyz_m) -> tuple[str | None, float]:
+    """Return the key of the object hypothesis nearest ``xyz_m`` and its distance (camera frame, m); (None, inf): none."""
     p = np.asarray(xyz_m, float)
-    return min(hypotheses, key=lambda h: float(np.linalg.norm(h.xyz_m - p))).key
+    dist = [float(np.linalg.norm(h.xyz_m - p)) for h in hypotheses]
+    if not dist:
+        return None, float("inf")
+    i = int(np.argmin(dist))
+    return hypotheses[i].key, dist[i]

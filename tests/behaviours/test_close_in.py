@@ -43,10 +43,13 @@ def _arm(shoulder: np.ndarray, raised: bool = True, keypoint_sigma_m: float | No
 
 
 def _frame(shoulder=FAR_SHOULDER, raised: bool = True, scores=(0.45, 0.42), none_p: float = 0.13,
-           keypoint_sigma_m: float | None = None) -> PerceptionResult:
-    """Two placards one behind the other along the arm, neither clearly pointed at (as at 5 m)."""
+           keypoint_sigma_m: float | None = None, moved_m=(0.0, 0.0, 0.0)) -> PerceptionResult:
+    """Two placards one behind the other along the arm, neither clearly pointed at (as at 5 m).
+
+    ``moved_m``: how far the camera has moved (camera frame, m): the placards are seen that much the other way.
+    """
     arm, arm3d = _arm(np.asarray(shoulder, float), raised, keypoint_sigma_m)
-    where = [np.array([0.5, 0.1, 2.0]), np.array([0.45, 0.1, 3.0]), np.array([0.55, 0.15, 1.3])]
+    where = [np.array(p) - np.asarray(moved_m, float) for p in ([0.5, 0.1, 2.0], [0.45, 0.1, 3.0], [0.55, 0.15, 1.3])]
     scores = np.asarray(scores, float)
     objs = tuple(ObjectCandidate(_project(p[None])[0], p, 0.02, (0, 1, 2)) for p in where[:len(scores)])
     cands = Candidates(np.zeros((3, 2)), np.zeros((3, 2)), np.random.default_rng(0).random((3, 128), np.float32),
@@ -245,8 +248,8 @@ def test_a_weak_decision_at_range_closes_in_first_and_a_clear_or_near_one_decide
     assert any(isinstance(o, StatusText) and "closer before deciding" in o.text for o in m.bb.outbox)
     trig, _ = move_until_trigger(m, _frame(shoulder=(-0.5, -0.3, 3.2), **weak), 2000)
     assert trig == "closer" and m.state == "select_target"
-    fired = feed(m, [_frame(shoulder=(-0.4, -0.3, 2.6), **weak)] * 12 + [None], t0=m.bb.now_s)
-    assert "winner" in fired  # tries used up: the same lean now decides
+    fired = feed(m, [_frame(shoulder=(-0.4, -0.3, 2.6), moved_m=step.offset_m, **weak)] * 12 + [None], t0=m.bb.now_s)
+    assert "winner" in fired  # tries used up: the same lean from the new view decides
     for shoulder, over in (((-0.4, -0.3, 2.2), {"behaviour.weak_look_again": False}),
                            ((-0.5, -0.3, 3.2), {"behaviour.close_in_weak_one_look": 0.0})):
         m = _close_inengaged_mission(rig, **{"behaviour.select_timeout_s": 30.0, **over})
@@ -299,15 +302,21 @@ def test_a_weak_decision_takes_a_second_look_and_acts_when_the_new_view_agrees(r
     assert any(isinstance(o, StatusText) and "a second look before deciding" in o.text for o in m.bb.outbox)
     trig, cmds = move_until_trigger(m, _frame(shoulder=NEAR_SHOULDER), 2000)
     assert trig == "looked" and m.state == "select_target" and any(c is not None for c in cmds)
-    fired = feed(m, [_frame(shoulder=NEAR_SHOULDER, scores=(0.58, 0.2), none_p=0.2)] * 12 + [None], t0=m.bb.now_s)
+    there = dict(shoulder=NEAR_SHOULDER, scores=(0.58, 0.2), none_p=0.2, moved_m=step.offset_m)
+    fired = feed(m, [_frame(**there)] * 12 + [None], t0=m.bb.now_s)
     assert "winner" in fired and "second_look" not in fired  # the same weak lean from the new view: acted on
-    assert m.bb.chosen.xyz_m == pytest.approx([0.5, 0.1, 2.0])
+    assert m.bb.chosen.xyz_m == pytest.approx(lean.xyz_m)
+    m, _ = _weak_second_look(rig)
+    move_until_trigger(m, _frame(shoulder=NEAR_SHOULDER), 2000)
+    fired = feed(m, [_frame(**dict(there, moved_m=(0.0, 0.0, 0.0)))] * 12 + [None], t0=m.bb.now_s)
+    assert "winner" not in fired  # the world did not move as the step said: o1 is 0.4 m off, not the same object
 
 
 def test_a_weak_decision_whose_second_view_leans_elsewhere_is_not_acted_on(rig):
     m, _ = _weak_second_look(rig)
+    moved = m.bb.look_step.offset_m
     move_until_trigger(m, _frame(shoulder=NEAR_SHOULDER), 2000)
-    other = _frame(shoulder=NEAR_SHOULDER, scores=(0.2, 0.58), none_p=0.2)  # now o2, the farther placard, leads
+    other = _frame(shoulder=NEAR_SHOULDER, scores=(0.2, 0.58), none_p=0.2, moved_m=moved)  # now o2, the farther, leads
     fired = feed(m, [other] * 40 + [None], t0=m.bb.now_s)
     assert "winner" not in fired and fired.count("ambiguous") == 1  # at the select timeout, back to confirm_point
     assert m.state in ("confirm_point", "select_target") and m.bb.weak_lean is not None  # the same point goes on
@@ -315,10 +324,10 @@ def test_a_weak_decision_whose_second_view_leans_elsewhere_is_not_acted_on(rig):
     texts = [o.text for o in m.bb.outbox if isinstance(o, StatusText)]
     assert 1 <= sum("the two views disagree" in t for t in texts) <= 2  # once per select_target
     assert any("before and after the move lean to different objects" in t for t in texts)
-    clear = _frame(shoulder=NEAR_SHOULDER, scores=(0.1, 0.85), none_p=0.05)  # a clear lean from the new view: acted on
+    clear = _frame(shoulder=NEAR_SHOULDER, scores=(0.1, 0.85), none_p=0.05, moved_m=moved)  # clear: acted on
     enter(m, "select_target")
     assert "winner" in feed(m, [clear] * 12 + [None], t0=m.bb.now_s)
-    assert m.bb.chosen.xyz_m == pytest.approx([0.45, 0.1, 3.0])
+    assert m.bb.chosen.xyz_m == pytest.approx(np.array([0.45, 0.1, 3.0]) - moved)
 
 
 def test_a_weak_lean_is_forgotten_with_a_new_point_and_off_by_parameter(rig):
