@@ -158,10 +158,11 @@ class SelectTarget(_ArmWatch):
     winner within ``behaviour.select_timeout_s``: the diver farther than ``behaviour.decide_max_range_m``
     -> ``close_in`` (while tries are left and a safe advance exists); a winner that is weak counted as
     one look with the diver farther than ``behaviour.decide_max_range_m`` -> ``close_in`` first
-    (``weak_close_in_step``); else a weak winner takes a second look first when a step keeps it, the
-    strongest other object and the diver in view (``behaviour.weak_look_again``, ``weak_look_step``); after such a move a
-    weak winner that is not the one before the move is not acted on (``views_disagree``: undecided,
-    ambiguous at the timeout); two objects close at the timeout ->
+    (``weak_close_in_step``: the nearer view then decides); else, when the point had no close in, a weak
+    winner takes a second look first if a step keeps it, the strongest other object and the diver in view
+    (``behaviour.weak_look_again``, ``weak_look_step``), and a weak winner from there that is not the one
+    before the step is not acted on (``views_disagree``: undecided, ambiguous at the timeout); two
+    objects close at the timeout ->
     ``second_look`` (while tries are left and a step separates them); else ``ambiguous``.
     """
 
@@ -278,17 +279,17 @@ class SelectTarget(_ArmWatch):
     def move_before_weak(self, bb: Blackboard, decision: FusedDecision) -> str | None:
         """Return the move to make before acting on a weak object decision ("close_in", "second_look"), or None.
 
-        The weak winner is kept on the blackboard (``bb.weak_lean``) to be compared from the new view.
+        A weak decision gets one extra view per point. A nearer one (close in) decides on its own: the
+        arm's depth error is smaller there. A second look is taken from as far: the weak winner is kept on
+        the blackboard (``bb.weak_lean``) and the new view must agree with it (``views_disagree``).
         """
         c = bb.config
         advance = self.weak_close_in_step(bb, decision)
         if advance is not None:
             bb.close_in_step = advance
-            if c.weak_look_again:
-                bb.weak_lean = WeakLean.of(decision)
             return "close_in"
-        if not c.weak_look_again or bb.weak_lean is not None or not is_weak(decision, c.close_in_weak_one_look):
-            return None
+        if not c.weak_look_again or bb.weak_lean is not None or bb.close_ins or not is_weak(decision, c.close_in_weak_one_look):
+            return None  # off, or the point had its extra view already: a second look or a nearer one
         step = self.weak_look_step(bb, decision)
         if step is None:
             return None
@@ -455,8 +456,9 @@ class CloseIn(_MoveThenDecide):
     left_view_text = "diver left the view while closing in"
 
     def take_step(self, bb: Blackboard) -> CloseInStep | None:
-        """Count this advance and return its planned step."""
+        """Count this advance and return its planned step (a weak lean from farther is dropped: the nearer view decides)."""
         bb.close_ins += 1
+        bb.weak_lean = None
         return bb.close_in_step
 
     def start_move(self, bb: Blackboard, step: CloseInStep) -> None:

@@ -4,10 +4,13 @@ A fused object decision whose one look (its posterior with the point's frames co
 ``fusion.py``) is below ``behaviour.close_in_weak_one_look`` is a weak lean: the frames of a still
 vehicle share their errors, and fused they claim far more than one look holds (``variant_9_19``
 seed 2 with ``corridor.zoom_boxes=2``: one look 0.53, fused 0.93, the wrong placard; issue 11,
-session 36). Before acting on one the mission makes the one bounded move it may (close in, else
-a second look) and decides again from the new viewpoint with fresh frames. The weak winner is kept
-here, its position moved into the camera frame after the move (the vehicle keeps its heading, so a
-still point moves by minus the camera's offset). A weak decision from the new view is acted on only
+session 36). Before acting on one the mission takes one more view of the point with fresh frames.
+A nearer one (close in, ``close_in.py``) decides on its own: the arm's depth error is smaller there,
+and the far lean was the doubtful one (``variant_9_19`` seeds 0 and 1 lean differently at 3.4 m and
+decide the pointed placard from 2.8 m). Else a second look from beside or above, as far as before:
+then the weak winner is kept here, its position moved into the camera frame after the step (the
+vehicle keeps its heading, so a still point moves by minus the camera's offset), and a weak
+decision from the new view is acted on only
 when its winner is the hypothesis nearest that prediction and within ``behaviour.vote_radius_m`` of it
 (the radius within which the fusion takes a sighting for the same object): two views agree. A clear decision from
 the new view is acted on whatever the old lean said.
@@ -34,7 +37,7 @@ class WeakLean:
         key: the winner's hypothesis key when it was decided (for the story).
         xyz_m: its camera-frame position, metres, moved with every move since (``moved``).
         one_look: its one-look posterior when it was decided.
-        moves: the moves made since, in order ("close_in", "second_look").
+        moves: the moves made since, in order ("second_look").
     """
 
     key: str

@@ -250,6 +250,7 @@ def test_a_weak_decision_at_range_closes_in_first_and_a_clear_or_near_one_decide
     assert trig == "closer" and m.state == "select_target"
     fired = feed(m, [_frame(shoulder=(-0.4, -0.3, 2.6), moved_m=step.offset_m, **weak)] * 12 + [None], t0=m.bb.now_s)
     assert "winner" in fired  # tries used up: the same lean from the new view decides
+    assert m.bb.weak_lean is None and m.bb.second_looks == 0  # the nearer view was the extra one: no second look
     for shoulder, over in (((-0.4, -0.3, 2.2), {"behaviour.weak_look_again": False}),
                            ((-0.5, -0.3, 3.2), {"behaviour.close_in_weak_one_look": 0.0})):
         m = _close_inengaged_mission(rig, **{"behaviour.select_timeout_s": 30.0, **over})
@@ -339,3 +340,17 @@ def test_a_weak_lean_is_forgotten_with_a_new_point_and_off_by_parameter(rig):
     assert "winner" in fired and "second_look" not in fired and m.bb.weak_lean is None
     m, fired = _weak_second_look(rig, **{"behaviour.second_look_max_tries": 0})
     assert "winner" in fired and m.bb.weak_lean is None  # no second look left: acted on as before
+
+
+def test_after_a_weak_close_in_the_nearer_view_decides_on_its_own(rig):
+    """variant_9_19 seeds 0 and 1: the lean at 3.4 m is the doubtful one; from 2.8 m the arm's depth error
+    is a third smaller, so the nearer view's winner is acted on even when the far lean was elsewhere."""
+    m = _close_inengaged_mission(rig, **{"behaviour.select_timeout_s": 30.0})
+    enter(m, "select_target")
+    assert "close_in" in feed(m, [_frame(shoulder=(-0.5, -0.3, 3.2), scores=(0.58, 0.2), none_p=0.2)] * 12 + [None])
+    step = m.bb.close_in_step
+    move_until_trigger(m, _frame(shoulder=(-0.5, -0.3, 3.2)), 2000)
+    near = _frame(shoulder=(-0.4, -0.3, 2.6), scores=(0.2, 0.58), none_p=0.2, moved_m=step.offset_m)
+    fired = feed(m, [near] * 12 + [None], t0=m.bb.now_s)
+    assert "winner" in fired and "second_look" not in fired
+    assert m.bb.chosen.xyz_m == pytest.approx(np.array([0.45, 0.1, 3.0]) - np.array(step.offset_m))
