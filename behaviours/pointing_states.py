@@ -288,8 +288,10 @@ class SelectTarget(_ArmWatch):
         if advance is not None:
             bb.close_in_step = advance
             return "close_in"
-        if not c.weak_look_again or bb.weak_lean is not None or bb.close_ins or not is_weak(decision, c.close_in_weak_one_look):
-            return None  # off, or the point had its extra view already: a second look or a nearer one
+        if not c.weak_look_again or not is_weak(decision, c.close_in_weak_one_look):
+            return None
+        if bb.weak_lean is not None or bb.close_ins:
+            return None  # the point had its extra view already: a second look or a nearer one
         step = self.weak_look_step(bb, decision)
         if step is None:
             return None
@@ -318,20 +320,21 @@ class SelectTarget(_ArmWatch):
         ``behaviour.vote_radius_m`` of it.
         """
         c, lean = bb.config, bb.weak_lean
-        if not c.weak_look_again or lean is None or not lean.moves or not is_weak(decision, c.close_in_weak_one_look):
+        if not c.weak_look_again or lean is None or not lean.moves:
+            return False
+        if not is_weak(decision, c.close_in_weak_one_look):
             return False
         near, dist_m = nearest(bb.fusion.hypotheses, lean.xyz_m)
         if near == decision.best and dist_m <= c.vote_radius_m:
-            bb.say(f"{near} leads again from the new view ({decision.one_look:.2f} counted as one look), {dist_m:.2f} m "
-                   f"from where {lean.key} was expected: the two views agree")
+            bb.say(f"{near} leads again from the new view ({decision.one_look:.2f} counted as one look), "
+                   f"{dist_m:.2f} m from where {lean.key} was expected: the two views agree")
             return False
         if not self.disagreed:
             self.disagreed = True
             moves = " and ".join(m.replace("_", " ") for m in lean.moves)
-            bb.say(f"{decision.best} leads only {decision.one_look:.2f} counted as one look after the {moves}; before it "
-                   f"{lean.key} led ({lean.one_look:.2f}), {near} ({dist_m:.2f} m off) from here: the two views disagree, "
-                   f"not acting",
-                   "notice", pilot=True)
+            bb.say(f"{decision.best} leads only {decision.one_look:.2f} counted as one look after the {moves}; "
+                   f"before it {lean.key} led ({lean.one_look:.2f}), {near} ({dist_m:.2f} m off) from here: "
+                   f"the two views disagree, not acting", "notice", pilot=True)
         return True
 
     def look_step(self, bb: Blackboard, decision: FusedDecision) -> LookStep | None:
@@ -456,7 +459,7 @@ class CloseIn(_MoveThenDecide):
     left_view_text = "diver left the view while closing in"
 
     def take_step(self, bb: Blackboard) -> CloseInStep | None:
-        """Count this advance and return its planned step (a weak lean from farther is dropped: the nearer view decides)."""
+        """Count this advance and return its planned step; a weak lean from farther is dropped (the nearer view decides)."""
         bb.close_ins += 1
         bb.weak_lean = None
         return bb.close_in_step

@@ -5,15 +5,16 @@ A fused object decision whose one look (its posterior with the point's frames co
 vehicle share their errors, and fused they claim far more than one look holds (``variant_9_19``
 seed 2 with ``corridor.zoom_boxes=2``: one look 0.53, fused 0.93, the wrong placard; issue 11,
 session 36). Before acting on one the mission takes one more view of the point with fresh frames.
-A nearer one (close in, ``close_in.py``) decides on its own: the arm's depth error is smaller there,
-and the far lean was the doubtful one (``variant_9_19`` seeds 0 and 1 lean differently at 3.4 m and
-decide the pointed placard from 2.8 m). Else a second look from beside or above, as far as before:
-then the weak winner is kept here, its position moved into the camera frame after the step (the
-vehicle keeps its heading, so a still point moves by minus the camera's offset), and a weak
-decision from the new view is acted on only
-when its winner is the hypothesis nearest that prediction and within ``behaviour.vote_radius_m`` of it
-(the radius within which the fusion takes a sighting for the same object): two views agree. A clear decision from
-the new view is acted on whatever the old lean said.
+
+A nearer view (close in, ``close_in.py``) decides on its own: the arm's depth error is smaller
+there, and the far lean was the doubtful one (``variant_9_19`` seeds 0 and 1 lean differently at
+3.4 m and decide the pointed placard from 2.8 m). Else a second look from beside or above, as far
+as before: the weak winner is kept here, its position moved into the camera frame after the step
+(the vehicle keeps its heading, so a still point moves by minus the camera's offset). A weak
+decision from the new view is acted on only when its winner is the hypothesis nearest that
+prediction and within ``behaviour.vote_radius_m`` of it (the radius within which the fusion takes a
+sighting for the same object): the two views agree. A clear decision from the new view is acted on
+whatever the old lean said.
 
 Pure data and geometry in the rectified left camera frame (metres): no clock, no link.
 """
@@ -61,7 +62,10 @@ def is_weak(decision: FusedDecision, weak_one_look: float) -> bool:
 
 
 def nearest(hypotheses: list[Hypothesis], xyz_m) -> tuple[str | None, float]:
-    """Return the key of the object hypothesis nearest ``xyz_m`` and its distance (camera frame, m); (None, inf): none."""
+    """Return the key of the object hypothesis nearest ``xyz_m`` and its distance, metres (camera frame).
+
+    (None, inf) when there is no hypothesis.
+    """
     p = np.asarray(xyz_m, float)
     dist = [float(np.linalg.norm(h.xyz_m - p)) for h in hypotheses]
     if not dist:
