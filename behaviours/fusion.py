@@ -242,8 +242,8 @@ class PointFusion:
     def _log(self, p: float) -> float:
         return math.log(max(float(p), self.floor_p))
 
-    def _match(self, xyz: np.ndarray) -> Hypothesis | None:
-        """Return the nearest hypothesis within ``radius_m``, or None."""
+    def match(self, xyz: np.ndarray) -> Hypothesis | None:
+        """Return the nearest hypothesis within ``radius_m`` of ``xyz`` (camera frame, m), or None."""
         best, best_d = None, self.radius_m
         for h in self.hypotheses:
             d = float(np.linalg.norm(h.xyz_m - xyz))
@@ -272,7 +272,7 @@ class PointFusion:
             xyz = np.asarray(obj.xyz_m, dtype=float)
             if not np.all(np.isfinite(xyz)):
                 continue
-            h = self._match(xyz)
+            h = self.match(xyz)
             if h is None:
                 h = Hypothesis(f"o{len(self.hypotheses) + 1}", xyz.copy(), 0.0, len(self.frames) * floor)
                 self.hypotheses.append(h)

@@ -21,7 +21,7 @@ from .evidence import VoteBox, angular_spread_rad, image_direction
 from .fusion import NONE, FrameEvidence, FusedDecision, PointFusion
 from .mission_state import MissionState, arm_raised, new_result
 from .second_look import LookStep, plan_second_look
-from .weak_lean import WeakLean, is_weak, nearest
+from .weak_lean import WeakLean, is_weak
 
 __all__ = ["WaitForDiver", "ConfirmPoint", "SelectTarget", "SecondLook", "CloseIn"]
 
@@ -262,7 +262,7 @@ class SelectTarget(_ArmWatch):
         cuts that error by less than ``behaviour.close_in_weak_min_error_cut`` is not worth the delay.
         """
         c = bb.config
-        if decision.kind != "object" or decision.one_look is None or decision.one_look >= c.close_in_weak_one_look:
+        if not is_weak(decision, c.close_in_weak_one_look):
             return None
         step = self.close_in_step(bb)
         if step is None:
@@ -316,25 +316,28 @@ class SelectTarget(_ArmWatch):
     def views_disagree(self, bb: Blackboard, decision: FusedDecision) -> bool:
         """True when a weak winner is not the weak winner seen before the last move (said once per state).
 
-        The same: the object hypothesis nearest where that winner should be seen from here, within
-        ``behaviour.vote_radius_m`` of it.
+        The same: the hypothesis the fusion matches to where that winner should be seen from here (the
+        nearest within ``behaviour.vote_radius_m``).
         """
         c, lean = bb.config, bb.weak_lean
         if not c.weak_look_again or lean is None or not lean.moves:
             return False
         if not is_weak(decision, c.close_in_weak_one_look):
             return False
-        near, dist_m = nearest(bb.fusion.hypotheses, lean.xyz_m)
-        if near == decision.best and dist_m <= c.vote_radius_m:
-            bb.say(f"{near} leads again from the new view ({decision.one_look:.2f} counted as one look), "
-                   f"{dist_m:.2f} m from where {lean.key} was expected: the two views agree")
+        same = bb.fusion.match(lean.xyz_m)
+        if same is not None and same.key == decision.best:
+            bb.say(f"{same.key} leads again from the new view ({decision.one_look:.2f} counted as one look), "
+                   f"{float(np.linalg.norm(same.xyz_m - lean.xyz_m)):.2f} m from where {lean.key} was expected: "
+                   f"the two views agree")
             return False
         if not self.disagreed:
             self.disagreed = True
             moves = " and ".join(m.replace("_", " ") for m in lean.moves)
+            where = (f"{same.key} from here" if same is not None
+                     else f"no object within {c.vote_radius_m:g} m of where it should be seen")
             bb.say(f"{decision.best} leads only {decision.one_look:.2f} counted as one look after the {moves}; "
-                   f"before it {lean.key} led ({lean.one_look:.2f}), {near} ({dist_m:.2f} m off) from here: "
-                   f"the two views disagree, not acting", "notice", pilot=True)
+                   f"before it {lean.key} led ({lean.one_look:.2f}), {where}: the two views disagree, not acting",
+                   "notice", pilot=True)
         return True
 
     def look_step(self, bb: Blackboard, decision: FusedDecision) -> LookStep | None:

@@ -11,9 +11,9 @@ there, and the far lean was the doubtful one (``variant_9_19`` seeds 0 and 1 lea
 3.4 m and decide the pointed placard from 2.8 m). Else a second look from beside or above, as far
 as before: the weak winner is kept here, its position moved into the camera frame after the step
 (the vehicle keeps its heading, so a still point moves by minus the camera's offset). A weak
-decision from the new view is acted on only when its winner is the hypothesis nearest that
-prediction and within ``behaviour.vote_radius_m`` of it (the radius within which the fusion takes a
-sighting for the same object): the two views agree. A clear decision from the new view is acted on
+decision from the new view is acted on only when its winner is the hypothesis the fusion matches to
+that prediction (``PointFusion.match``: the nearest within ``behaviour.vote_radius_m``, the radius
+within which it takes a sighting for the same object): the two views agree. A clear decision from the new view is acted on
 whatever the old lean said.
 
 Pure data and geometry in the rectified left camera frame (metres): no clock, no link.
@@ -25,9 +25,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .fusion import FusedDecision, Hypothesis
+from .fusion import FusedDecision
 
-__all__ = ["WeakLean", "is_weak", "nearest"]
+__all__ = ["WeakLean", "is_weak"]
 
 
 @dataclass(frozen=True)
@@ -59,16 +59,3 @@ class WeakLean:
 def is_weak(decision: FusedDecision, weak_one_look: float) -> bool:
     """True for an object decision whose one-look posterior is below ``weak_one_look``."""
     return decision.kind == "object" and decision.one_look is not None and decision.one_look < weak_one_look
-
-
-def nearest(hypotheses: list[Hypothesis], xyz_m) -> tuple[str | None, float]:
-    """Return the key of the object hypothesis nearest ``xyz_m`` and its distance, metres (camera frame).
-
-    (None, inf) when there is no hypothesis.
-    """
-    p = np.asarray(xyz_m, float)
-    dist = [float(np.linalg.norm(h.xyz_m - p)) for h in hypotheses]
-    if not dist:
-        return None, float("inf")
-    i = int(np.argmin(dist))
-    return hypotheses[i].key, dist[i]
