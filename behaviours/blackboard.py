@@ -74,6 +74,8 @@ class BehaviourConfig:
     track_lost_frames: int = 3
     track_roi_margin_px: float = 200.0
     track_roi_object_m: float = 0.4
+    track_zoom_m: float = 0.3
+    track_pool_below: int = 50
     lost_grace_s: float = 1.0
     lost_timeout_s: float = 6.0
     servo_timeout_s: float = 90.0

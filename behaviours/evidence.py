@@ -104,6 +104,8 @@ class Vote:
         obj: the latest ObjectCandidate.
         candidates: the Candidates of that frame (the object's members index into them).
         stamp_s: capture time of that frame.
+        pool: its sightings, (object, its frame's candidates), newest first (the tracker's model for a small
+            target).
     """
 
     xyz_m: np.ndarray
@@ -112,6 +114,7 @@ class Vote:
     obj: ObjectCandidate
     candidates: Candidates
     stamp_s: float
+    pool: list = field(default_factory=list)
 
 
 @dataclass(frozen=True)

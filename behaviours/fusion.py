@@ -54,6 +54,9 @@ __all__ = ["NONE", "SHARED_RULES", "Hypothesis", "FrameEvidence", "FusedDecision
 NONE = "none"
 """The name of the "nothing detected along the arm" hypothesis."""
 
+POOL_SIGHTINGS = 30
+"""How many of a hypothesis's latest sightings (objects) it keeps for the tracker's model."""
+
 SHARED_RULES = ("always", "pose_model")
 """When the "counted as one" check applies: every point, or only frames with a pose model's own error."""
 
@@ -70,6 +73,8 @@ class Hypothesis:
         led: frames in which it had the highest probability of all hypotheses (none included).
         obj, candidates, stamp_s: its sighting for the tracker (``_tracker_sighting``).
         best_p: its highest single-frame probability.
+        pool: its sightings, (object, its frame's candidates) for every object that fell on it, newest
+            first (the tracker's model for a target whose sighting holds few; at most ``POOL_SIGHTINGS``).
     """
 
     key: str
@@ -81,6 +86,7 @@ class Hypothesis:
     candidates: Candidates | None = None
     stamp_s: float = 0.0
     best_p: float = 0.0
+    pool: list = field(default_factory=list)
 
 
 @dataclass(frozen=True)
@@ -185,6 +191,13 @@ def _tracker_sighting(h: Hypothesis, obj: ObjectCandidate, same_frame: bool) -> 
     return not same_frame or h.obj is None or len(obj.members) > len(h.obj.members)
 
 
+def _pool(h: Hypothesis, obj: ObjectCandidate, candidates: Candidates) -> None:
+    """Put the sighting ``obj`` (members index into ``candidates``) first in ``h``'s pool (the newest
+    ``POOL_SIGHTINGS`` kept)."""
+    h.pool.insert(0, (obj, candidates))
+    del h.pool[POOL_SIGHTINGS:]
+
+
 @dataclass
 class PointFusion:
     """Accumulates the frames of one point into the fused posterior.
@@ -281,6 +294,7 @@ class PointFusion:
             h.weight += w
             if _tracker_sighting(h, obj, h.key in seen):
                 h.obj, h.candidates, h.stamp_s = obj, result.candidates, stamp_s
+            _pool(h, obj, result.candidates)
             seen[h.key] = seen.get(h.key, 0.0) + p
         for h in self.hypotheses:
             h.log_sum += self._log(seen[h.key]) if h.key in seen else floor
@@ -351,7 +365,7 @@ class PointFusion:
 
     def as_vote(self, h: Hypothesis) -> Vote:
         """Return a hypothesis as the mission's chosen-target record (``Blackboard.chosen``)."""
-        return Vote(h.xyz_m.copy(), h.weight, h.led, h.obj, h.candidates, h.stamp_s)
+        return Vote(h.xyz_m.copy(), h.weight, h.led, h.obj, h.candidates, h.stamp_s, list(h.pool))
 
     def describe(self) -> str:
         """Return the hypotheses' averaged positions, e.g. ``o1 (0.46, -0.21, 2.96) led 5``."""

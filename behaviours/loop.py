@@ -37,7 +37,7 @@ from dip3d_vehicle.servo.ibvs import PointServo
 
 from .blackboard import SEVERITY, BehaviourConfig, Blackboard, Observation, SetServo, StatusText, TrackFrame
 from .machine import Mission
-from .tracker import TargetTracker, TrackerConfig
+from .tracker import TargetTracker, TrackerConfig, TrackRegion
 
 __all__ = ["build_mission", "FrameProcessor", "Controller", "MAV_CMD_DO_SET_SERVO"]
 
@@ -82,11 +82,12 @@ class FrameProcessor:
         self.busy_s = 0.0
 
     def process(self, frame: StereoFrame, need: str, stamp_s: float | None = None,
-                roi: tuple[int, int, int, int] | None = None) -> Observation:
+                roi: TrackRegion | None = None) -> Observation:
         """Process one frame; ``stamp_s`` is its capture time on the loop clock (default its stamp).
 
-        ``roi`` (x0, y0, x1, y1, rectified left px) limits the ``track`` search: both images are
-        cropped to those rows and to the columns from ``x0`` minus the disparity allowance to ``x1``.
+        ``roi`` (``Mission.track_roi``) limits the ``track`` search to its box (x0, y0, x1, y1, rectified left
+        px): both images are cropped to those rows and to the columns from ``x0`` minus the disparity
+        allowance to ``x1``; its zoom box, when it has one, is scanned again closer.
         """
         t0 = time.perf_counter()
         stamp = frame.stamp_s if stamp_s is None else stamp_s
@@ -108,15 +109,24 @@ class FrameProcessor:
         return obs
 
 
-def _detect_in(p: Perception, left: np.ndarray, right: np.ndarray, roi) -> Candidates:
+def _detect_in(p: Perception, left: np.ndarray, right: np.ndarray, roi: TrackRegion | None) -> Candidates:
     """Full-frame (no arm mask) matched features, optionally only inside a region of interest.
 
     Inside a region of interest, the pointing corridor's detector (when on) adds its own matches:
-    an object it found (small, far, faint) is followed with the same kind of features.
+    an object it found (small, far, faint) is followed with the same kind of features; and its zoom
+    box, when it has one, is scanned again closer (``CorridorDetector.detect_zoom_box``).
     """
     if roi is None:
         return p.detector.detect(left, right, None, p.rig)
-    x0, y0, x1, y1 = roi
+    cands = _detect_box(p, left, right, roi.box)
+    if p.corridor is None or roi.zoom is None:
+        return cands
+    return merge_candidates(cands, p.corridor.detect_zoom_box(left, right, roi.zoom, roi.zoom_disparity_px, p.rig))
+
+
+def _detect_box(p: Perception, left: np.ndarray, right: np.ndarray, box: tuple[int, int, int, int]) -> Candidates:
+    """Matched features inside one search box (rectified left px), the corridor's added when on."""
+    x0, y0, x1, y1 = box
     if x1 - x0 < 16 or y1 - y0 < 16:
         return p.detector.detect(left, right, None, p.rig)
     cands = p.detector.detect(left[y0:y1, x0:x1], right[y0:y1, x0:x1], None, p.rig)
@@ -124,7 +134,7 @@ def _detect_in(p: Perception, left: np.ndarray, right: np.ndarray, roi) -> Candi
     cands = Candidates(cands.left_px + shift, cands.right_px + shift, cands.descriptors, cands.sizes_px)
     if p.corridor is None:
         return cands
-    return merge_candidates(cands, p.corridor.detect_box(left, right, roi, p.rig))
+    return merge_candidates(cands, p.corridor.detect_box(left, right, box, p.rig))
 
 
 @dataclass

@@ -38,6 +38,7 @@ from dip3d_vehicle.link.engage import LATCHING_REASONS
 
 from .blackboard import Blackboard
 from .gesture import StopGestureWatch
+from .tracker import TrackRegion, zoom_box
 from .states import STATE_CLASSES, MissionState
 
 __all__ = ["STATES", "TRANSITIONS", "Mission", "PERCEPTION_STALE", "SUSPEND_REASONS", "SUSPENDABLE"]
@@ -121,14 +122,15 @@ class Mission:
         """The perception the current state wants: "full" or "track"."""
         return self.behaviours[self.state].needs
 
-    def track_roi(self, rig, image_size: tuple[int, int]) -> tuple[int, int, int, int] | None:
+    def track_roi(self, rig, image_size: tuple[int, int]) -> TrackRegion | None:
         """Return where to look for the target in the next frame (rectified px), or None = everywhere.
 
         Only in tracking states with a target (not in lost_target, which searches the whole frame): a
         box around the predicted centre, ``behaviour.track_roi_margin_px`` plus the projected size of
         ``behaviour.track_roi_object_m`` on each side (the margin doubled after a miss, so the
         corridor's features, which only a box gets, still cover a drifting prediction); its left edge
-        is widened by twice the predicted disparity so the right image's matches fall inside.
+        is widened by twice the predicted disparity so the right image's matches fall inside. A target
+        predicted at least ``ZOOM_MIN_DEPTH_M`` away also gets a zoom box (``zoom_box``).
         """
         bb, tracker = self.bb, self.bb.tracker
         if self.needs != "track" or self.state == "lost_target" or not tracker.active:
@@ -146,7 +148,8 @@ class Mission:
         y0, y1 = int(max(0, v - half)), int(min(h, v + half))
         if x1 - x0 < 32 or y1 - y0 < 32:
             return None
-        return x0, y0, x1, y1
+        zoom, zoom_disparity = zoom_box(xyz, rig, image_size, bb.config.track_zoom_m, tracker.misses)
+        return TrackRegion((x0, y0, x1, y1), zoom, zoom_disparity)
 
     def tick(self) -> str | None:
         """Run one tick of the current state; fire its trigger. Return the trigger fired, if any.

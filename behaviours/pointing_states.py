@@ -206,7 +206,7 @@ class SelectTarget(_ArmWatch):
             return "nothing_there"
         w = bb.fusion.as_vote(decision.winner)
         bb.chosen = w
-        bb.tracker.start(w.obj, w.candidates, w.stamp_s)
+        bb.tracker.start(w.obj, w.candidates, w.stamp_s, w.pool)
         bb.target = bb.tracker.last
         xyz = ", ".join(f"{v:.2f}" for v in w.xyz_m)
         bb.say(f"target chosen at ({xyz}) m, p {decision.posterior[decision.best]:.2f} "

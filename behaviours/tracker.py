@@ -8,7 +8,10 @@ centre lies inside a gate around the predicted centre. The prediction moves the 
 commanded vehicle motion since then (yaw turns the scene about the camera's vertical axis,
 surge/heave translate it); the gate
 grows with the time since the last sighting. The model keeps the first sighting's descriptors (the
-identity) plus the latest sighting's (the appearance up close). A target too small for that count (a
+identity) plus the latest sighting's (the appearance up close). A target whose decision sighting holds
+few descriptors starts with those of all its sightings over the decision's frames (``pooled_model``).
+The search box of a target predicted far away holds a zoom box around it, scanned closer
+(``TrackRegion``, ``zoom_box``). A target too small for that count (a
 few features) is still taken when it is the only object in the gate, near the prediction, and shares a
 descriptor with the model. Lost after N frames in a row without a match; any later frame with a match
 re-acquires it.
@@ -18,17 +21,26 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Mapping
+from typing import Mapping, NamedTuple
 
 import cv2
 import numpy as np
 
 from dip3d_vehicle.perception.calibration import StereoRig
+from dip3d_vehicle.perception.corridor import ZOOM_MIN_DEPTH_M
 from dip3d_vehicle.perception.selection import group_objects
 from dip3d_vehicle.perception.values import Candidates, ObjectCandidate
 from dip3d_vehicle.servo.command import VelocityCommand
 
-__all__ = ["TrackerConfig", "TrackedTarget", "TargetTracker", "predict_xyz"]
+__all__ = ["TrackerConfig", "TrackedTarget", "TargetTracker", "TrackRegion", "predict_xyz", "pooled_model", "zoom_box"]
+
+ZOOM_MARGIN_PX = 30.0
+"""Margin (px) on each side of the tracker's zoom box beyond the target's projected size, doubled after a miss."""
+
+POOL_MIN_DISTANCE = 200.0
+"""A pooled descriptor joins the model only this far (L2, SIFT units) from every descriptor already in it: the
+same feature seen in two frames lies nearer (~50-150), and two copies in the model would fail every frame
+feature's ratio test between them."""
 
 
 @dataclass(frozen=True)
@@ -46,6 +58,7 @@ class TrackerConfig:
     min_object_features: int = 3
     gate_max_m: float = 0.75
     near_m: float = 0.25
+    pool_below: int = 50
 
     @classmethod
     def from_params(cls, params: Mapping) -> "TrackerConfig":
@@ -55,7 +68,7 @@ class TrackerConfig:
                    params["behaviour.track_model_size"], params["behaviour.track_lost_frames"],
                    params["selection.group_radius_px"], params["selection.group_radius_m"],
                    params["selection.min_object_features"], gate_max_m=params["behaviour.track_gate_max_m"],
-                   near_m=params["behaviour.track_near_m"])
+                   near_m=params["behaviour.track_near_m"], pool_below=params["behaviour.track_pool_below"])
 
 
 @dataclass(frozen=True)
@@ -67,6 +80,58 @@ class TrackedTarget:
     matches: int
     stamp_s: float
     obj: ObjectCandidate
+
+
+class TrackRegion(NamedTuple):
+    """Where the tracker looks in the next frame: the search box and, for a far target, a zoom box.
+
+    Attributes:
+        box: (x0, y0, x1, y1) rectified left px, the search box.
+        zoom: (x0, y0, x1, y1) rectified left px around the predicted target, scanned again closer, or None.
+        zoom_disparity_px: the predicted target's disparity (the zoom's right box lies around it), px.
+    """
+
+    box: tuple[int, int, int, int]
+    zoom: tuple[int, int, int, int] | None = None
+    zoom_disparity_px: float = 0.0
+
+
+def zoom_box(xyz_m: np.ndarray, rig: StereoRig, image_size: tuple[int, int], half_m: float,
+             misses: int) -> tuple[tuple[int, int, int, int] | None, float]:
+    """Return the zoom box (rectified left px) around a target predicted at ``xyz_m`` and its disparity (px).
+
+    ``half_m`` (metres at the target's depth) plus ``ZOOM_MARGIN_PX`` (doubled after a miss) on each side;
+    None for a target nearer than ``ZOOM_MIN_DEPTH_M`` (large enough for the search box's own scan), for
+    ``half_m`` 0, or for a box mostly outside the image.
+    """
+    if half_m <= 0.0 or xyz_m[2] < ZOOM_MIN_DEPTH_M:
+        return None, 0.0
+    f = rig.focal_px
+    cx, cy = rig.principal_point_px
+    u, v = f * xyz_m[0] / xyz_m[2] + cx, f * xyz_m[1] / xyz_m[2] + cy
+    half = f * half_m / xyz_m[2] + ZOOM_MARGIN_PX * (2.0 if misses else 1.0)
+    w, h = image_size
+    x0, y0, x1, y1 = int(max(0, u - half)), int(max(0, v - half)), int(min(w, u + half)), int(min(h, v + half))
+    if x1 - x0 < 16 or y1 - y0 < 16:
+        return None, 0.0
+    return (x0, y0, x1, y1), f * abs(rig.baseline_m) / xyz_m[2]
+
+
+def pooled_model(first: np.ndarray, pool: list[np.ndarray], size: int) -> np.ndarray:
+    """Return ``first`` plus the pooled descriptors (newest sighting first) that lie at least
+    ``POOL_MIN_DISTANCE`` from every descriptor already kept, at most ``size`` in all."""
+    kept = [np.asarray(first, np.float32).reshape(-1, 128)]
+    count = len(kept[0])
+    for block in pool:
+        for d in np.asarray(block, np.float32).reshape(-1, 128):
+            if count >= size:
+                return np.vstack(kept)
+            have = np.vstack(kept)
+            if len(have) and float(np.min(np.linalg.norm(have - d, axis=1))) < POOL_MIN_DISTANCE:
+                continue
+            kept.append(d[None, :])
+            count += 1
+    return np.vstack(kept)
 
 
 def _distinct(model_index: np.ndarray) -> int:
@@ -137,12 +202,21 @@ class TargetTracker:
         """True after ``lost_frames`` frames in a row without the target."""
         return self.misses >= self.config.lost_frames
 
-    def start(self, obj: ObjectCandidate, candidates: Candidates, stamp_s: float) -> None:
-        """Start tracking ``obj`` (members index into ``candidates``), seen at ``stamp_s``."""
+    def start(self, obj: ObjectCandidate, candidates: Candidates, stamp_s: float,
+              pool: list[tuple[ObjectCandidate, Candidates]] | None = None) -> None:
+        """Start tracking ``obj`` (members index into ``candidates``), seen at ``stamp_s``.
+
+        ``pool``: the target's sightings over the decision's frames, (object, its frame's candidates),
+        newest first; their descriptors join a model of fewer than ``pool_below`` (``pooled_model``): a
+        small far target's one sighting holds a handful, and a frame of it rarely matches enough of them.
+        """
         members = list(obj.members)
         desc = candidates.descriptors[members] if len(candidates.descriptors) == len(candidates) else None
         self._first = np.asarray(desc if desc is not None else np.zeros((0, 128)), np.float32)
         self._first = self._first[: self.config.model_size]
+        if pool and len(self._first) < self.config.pool_below:
+            blocks = [c.descriptors[list(o.members)] for o, c in pool if len(c.descriptors) == len(c)]
+            self._first = pooled_model(self._first, blocks, min(self.config.model_size, self.config.pool_below))
         self._latest = np.zeros((0, self._first.shape[1] if self._first.size else 128), np.float32)
         self.xyz_m = np.asarray(obj.xyz_m, dtype=float)
         self.last = TrackedTarget(np.asarray(obj.left_px, float), self.xyz_m, len(members), stamp_s, obj)

@@ -207,6 +207,24 @@ class CorridorDetector:
             return Candidates.empty()
         return self._match_boxes(left_rect, right_rect, [(x0, y0, x1, y1)], [None], rig, first=2)
 
+    def detect_zoom_box(self, left_rect: np.ndarray, right_rect: np.ndarray, box: tuple[int, int, int, int],
+                        disparity_px: float, rig: StereoRig) -> Candidates:
+        """Return the matches of a closer look (``zoom_scale``) inside one left-image box (x0, y0, x1, y1, px)
+        around a point of disparity ``disparity_px``: its right box only within ``ZOOM_DEPTH_M`` of that depth.
+
+        The tracker looks here where it predicts a far target: the search box's own scan is as coarse as
+        its area makes it, and a small far placard gives it a few features or none.
+        """
+        height, width = left_rect.shape[:2]
+        x0, y0, x1, y1 = (int(max(0, box[0])), int(max(0, box[1])), int(min(width, box[2])), int(min(height, box[3])))
+        if x1 - x0 < 16 or y1 - y0 < 16 or disparity_px <= 0.0:
+            return Candidates.empty()
+        left_box = (x0, y0, x1, y1)
+        right_box = _zoom_right_box(left_box, disparity_px, rig.focal_px * rig.baseline_m, width, rig.disparity_sign)
+        scale = self._scale([left_box], self.zoom_scale, ZOOM_MAX_AREA_PX)
+        return self._match_boxes(left_rect, right_rect, [left_box], [None], rig, first=2, scale=scale,
+                                 right_masks=[None], right_boxes=[right_box])
+
     def _scale(self, boxes: list, image_scale: float | None = None, max_area_px: float | None = None) -> float:
         """Return the scale boxes are scanned at: ``image_scale`` (the corridor's by default), coarser past
         ``max_area_px`` SIFT pixels (after its doubling; the corridor's cap by default)."""

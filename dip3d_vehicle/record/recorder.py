@@ -153,7 +153,8 @@ class RunRecorder:
         bb = mission.bb
         size = tuple(self.rig.image_size)
         try:
-            box = mission.track_roi(self.rig, size)
+            region = mission.track_roi(self.rig, size)
+            box = None if region is None else region.box
         except Exception:  # noqa: BLE001 - a box is a nicety, never a reason to stop recording
             box = None
         tracked = None if bb.target is None else bb.target.left_px
