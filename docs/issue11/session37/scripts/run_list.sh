@@ -1,15 +1,4 @@
 #!/bin/bash
 # run_list.sh LISTFILE OUTDIR : each line "SUB NAME SEEDS" (SEEDS: 0-9 or 1,3,7); SETS="--set K=V ..." adds overrides.
-# Runs `python -m sitl.point_campaign mission` in the worktree /tmp/wl (git worktree add /tmp/wl COMMIT), --jobs 2.
-list=$1; out=$2; mkdir -p $out
-cd /tmp/wl
-while read sub name seeds; do
-  case $sub in
-    builtin) scen=$name;;
-    variants_seed9|variants) scen=docs/issue11/session18/variants_seed9/${name#default_}.yaml;;
-    variants_seed10|v10) scen=docs/issue11/session18/variants_seed10/${name#default_}.yaml;;
-    variants_seed12_small) scen=docs/issue11/session18/variants_seed12_small/${name#default_}.yaml;;
-  esac
-  mkdir -p $out/$sub
-  PYTHONPATH=/tmp/wl nice -n 5 python -m sitl.point_campaign mission --scenario $scen --seeds $seeds --jobs 2 ${SETS:-} >> $out/$sub/$name.txt 2>&1
-done < $list
+# Runs in the worktree /tmp/wl (git worktree add /tmp/wl COMMIT), --jobs 2: session 38's run_list.sh with WT=/tmp/wl.
+WT=${WT:-/tmp/wl} exec bash "$(dirname "$0")/../../session38/scripts/run_list.sh" "$@"

@@ -21,7 +21,6 @@ _orig_match = fu.PointFusion.match
 
 def _add(self, result, stamp_s, arm_frames=1):
     """Fuse as usual, and pool the descriptors of every object that fell on a hypothesis."""
-    before = {h.key: h for h in self.hypotheses}
     ev = _orig_add(self, result, stamp_s, arm_frames)
     probs = fu.frame_probabilities(result, self.no_objects_none_p)
     if probs is None or len(result.candidates.descriptors) != len(result.candidates):

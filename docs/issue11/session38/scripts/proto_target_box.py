@@ -6,7 +6,6 @@
 import os
 import sys
 
-import numpy as np
 
 import behaviours.loop as loop
 import behaviours.machine as machine

@@ -5,7 +5,6 @@
 """
 import os
 import runpy
-import sys
 
 import numpy as np
 
