@@ -38,7 +38,7 @@ from dip3d_vehicle.link.engage import LATCHING_REASONS
 
 from .blackboard import Blackboard
 from .gesture import StopGestureWatch
-from .tracker import TrackRegion, zoom_box
+from .tracker import TrackRegion, project_px, zoom_box
 from .states import STATE_CLASSES, MissionState
 
 __all__ = ["STATES", "TRANSITIONS", "Mission", "PERCEPTION_STALE", "SUSPEND_REASONS", "SUSPENDABLE"]
@@ -139,8 +139,7 @@ class Mission:
         if xyz is None or xyz[2] < 0.2:
             return None
         f = rig.focal_px
-        cx, cy = rig.principal_point_px
-        u, v = f * xyz[0] / xyz[2] + cx, f * xyz[1] / xyz[2] + cy
+        u, v = project_px(xyz, rig)
         half = bb.config.track_roi_margin_px * (2.0 if tracker.misses else 1.0) + f * bb.config.track_roi_object_m / xyz[2]
         disparity = f * abs(rig.baseline_m) / xyz[2]
         w, h = image_size

@@ -32,7 +32,8 @@ from dip3d_vehicle.perception.selection import group_objects
 from dip3d_vehicle.perception.values import Candidates, ObjectCandidate
 from dip3d_vehicle.servo.command import VelocityCommand
 
-__all__ = ["TrackerConfig", "TrackedTarget", "TargetTracker", "TrackRegion", "predict_xyz", "pooled_model", "zoom_box"]
+__all__ = ["TrackerConfig", "TrackedTarget", "TargetTracker", "TrackRegion", "predict_xyz", "pooled_model", "project_px",
+           "zoom_box"]
 
 ZOOM_MARGIN_PX = 30.0
 """Margin (px) on each side of the tracker's zoom box beyond the target's projected size, doubled after a miss."""
@@ -96,6 +97,12 @@ class TrackRegion(NamedTuple):
     zoom_disparity_px: float = 0.0
 
 
+def project_px(xyz_m: np.ndarray, rig: StereoRig) -> tuple[float, float]:
+    """Return where a camera-frame point (metres) lies in the rectified left image, (u, v) px."""
+    cx, cy = rig.principal_point_px
+    return rig.focal_px * xyz_m[0] / xyz_m[2] + cx, rig.focal_px * xyz_m[1] / xyz_m[2] + cy
+
+
 def zoom_box(xyz_m: np.ndarray, rig: StereoRig, image_size: tuple[int, int], half_m: float,
              misses: int) -> tuple[tuple[int, int, int, int] | None, float]:
     """Return the zoom box (rectified left px) around a target predicted at ``xyz_m`` and its disparity (px).
@@ -107,8 +114,7 @@ def zoom_box(xyz_m: np.ndarray, rig: StereoRig, image_size: tuple[int, int], hal
     if half_m <= 0.0 or xyz_m[2] < ZOOM_MIN_DEPTH_M:
         return None, 0.0
     f = rig.focal_px
-    cx, cy = rig.principal_point_px
-    u, v = f * xyz_m[0] / xyz_m[2] + cx, f * xyz_m[1] / xyz_m[2] + cy
+    u, v = project_px(xyz_m, rig)
     half = f * half_m / xyz_m[2] + ZOOM_MARGIN_PX * (2.0 if misses else 1.0)
     w, h = image_size
     x0, y0, x1, y1 = int(max(0, u - half)), int(max(0, v - half)), int(min(w, u + half)), int(min(h, v + half))
@@ -120,18 +126,18 @@ def zoom_box(xyz_m: np.ndarray, rig: StereoRig, image_size: tuple[int, int], hal
 def pooled_model(first: np.ndarray, pool: list[np.ndarray], size: int) -> np.ndarray:
     """Return ``first`` plus the pooled descriptors (newest sighting first) that lie at least
     ``POOL_MIN_DISTANCE`` from every descriptor already kept, at most ``size`` in all."""
-    kept = [np.asarray(first, np.float32).reshape(-1, 128)]
-    count = len(kept[0])
-    for block in pool:
-        for d in np.asarray(block, np.float32).reshape(-1, 128):
-            if count >= size:
-                return np.vstack(kept)
-            have = np.vstack(kept)
-            if len(have) and float(np.min(np.linalg.norm(have - d, axis=1))) < POOL_MIN_DISTANCE:
-                continue
-            kept.append(d[None, :])
-            count += 1
-    return np.vstack(kept)
+    first = np.asarray(first, np.float32).reshape(-1, 128)
+    kept = np.zeros((max(size, len(first)), 128), np.float32)
+    kept[: len(first)] = first
+    count = len(first)
+    for d in (d for block in pool for d in np.asarray(block, np.float32).reshape(-1, 128)):
+        if count >= size:
+            break
+        if count and float(np.min(np.linalg.norm(kept[:count] - d, axis=1))) < POOL_MIN_DISTANCE:
+            continue
+        kept[count] = d
+        count += 1
+    return kept[:count]
 
 
 def _distinct(model_index: np.ndarray) -> int:

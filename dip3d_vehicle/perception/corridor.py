@@ -201,11 +201,10 @@ class CorridorDetector:
         The tracker searches here for an object the corridor found: its features carry CLAHE-normalised
         descriptors that the ordinary detector's would not match.
         """
-        height, width = left_rect.shape[:2]
-        x0, y0, x1, y1 = (int(max(0, box[0])), int(max(0, box[1])), int(min(width, box[2])), int(min(height, box[3])))
-        if x1 - x0 < 16 or y1 - y0 < 16:
+        box = _in_image(box, left_rect.shape[1], left_rect.shape[0])
+        if box is None:
             return Candidates.empty()
-        return self._match_boxes(left_rect, right_rect, [(x0, y0, x1, y1)], [None], rig, first=2)
+        return self._match_boxes(left_rect, right_rect, [box], [None], rig, first=2)
 
     def detect_zoom_box(self, left_rect: np.ndarray, right_rect: np.ndarray, box: tuple[int, int, int, int],
                         disparity_px: float, rig: StereoRig) -> Candidates:
@@ -215,11 +214,10 @@ class CorridorDetector:
         The tracker looks here where it predicts a far target: the search box's own scan is as coarse as
         its area makes it, and a small far placard gives it a few features or none.
         """
-        height, width = left_rect.shape[:2]
-        x0, y0, x1, y1 = (int(max(0, box[0])), int(max(0, box[1])), int(min(width, box[2])), int(min(height, box[3])))
-        if x1 - x0 < 16 or y1 - y0 < 16 or disparity_px <= 0.0:
+        width = left_rect.shape[1]
+        left_box = _in_image(box, width, left_rect.shape[0])
+        if left_box is None or disparity_px <= 0.0:
             return Candidates.empty()
-        left_box = (x0, y0, x1, y1)
         right_box = _zoom_right_box(left_box, disparity_px, rig.focal_px * rig.baseline_m, width, rig.disparity_sign)
         scale = self._scale([left_box], self.zoom_scale, ZOOM_MAX_AREA_PX)
         return self._match_boxes(left_rect, right_rect, [left_box], [None], rig, first=2, scale=scale,
@@ -447,6 +445,14 @@ def _swept_polygon(poly: np.ndarray, shift_x_px: float) -> np.ndarray:
     """Return the convex hull of a convex polygon and its copy moved by ``shift_x_px`` along the rows."""
     both = np.vstack([poly, poly + [shift_x_px, 0.0]]).astype(np.float32)
     return cv2.convexHull(both).reshape(-1, 2).astype(np.float64)
+
+
+def _in_image(box: tuple[int, int, int, int], width: int, height: int) -> tuple[int, int, int, int] | None:
+    """Return a box (x0, y0, x1, y1, px) clipped to the image, or None when less than 16 px remain either way."""
+    x0, y0, x1, y1 = int(max(0, box[0])), int(max(0, box[1])), int(min(width, box[2])), int(min(height, box[3]))
+    if x1 - x0 < 16 or y1 - y0 < 16:
+        return None
+    return x0, y0, x1, y1
 
 
 def _clip_box(poly: np.ndarray, width: int, height: int, margin_px: int = 12) -> tuple[int, int, int, int] | None:
