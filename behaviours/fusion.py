@@ -281,11 +281,16 @@ class PointFusion:
         objects, p_none = probs
         floor = self._log(0.0)
         seen: dict[str, float] = {}
+        fresh = len(result.candidates) - result.recalled
         for obj, p in sorted(objects, key=lambda op: -op[1]):
             xyz = np.asarray(obj.xyz_m, dtype=float)
             if not np.all(np.isfinite(xyz)):
                 continue
             h = self.match(xyz)
+            if min(obj.members, default=0) >= fresh:  # recalled alone: scored with this frame's arm, not sighted
+                if h is not None:
+                    seen[h.key] = seen.get(h.key, 0.0) + p
+                continue
             if h is None:
                 h = Hypothesis(f"o{len(self.hypotheses) + 1}", xyz.copy(), 0.0, len(self.frames) * floor)
                 self.hypotheses.append(h)
@@ -310,6 +315,36 @@ class PointFusion:
         ev = FrameEvidence(stamp_s, result.status if arm_frames < 2 else f"{result.status}/arm{arm_frames}", part)
         self.frames.append(ev)
         return ev
+
+    def recall(self, result: PerceptionResult, stamp_s: float, max_age_s: float) -> Candidates | None:
+        """Return the sighted features of every hypothesis this frame found no object on, or None.
+
+        Only sightings at most ``max_age_s`` seconds before ``stamp_s`` are recalled (0: none). The
+        vehicle holds still while it watches a point (the evidence restarts when the viewpoint
+        changes), so an object seen in one frame is there in the next. A small, far or faint one is
+        often missed in some frames (a feature or two short of an object, or outside a zoom box), and
+        such a frame gave it the floor probability: the detector's miss counted as the arm pointing
+        elsewhere. Recalled, it is scored with every frame's arm (``held_arm.decide_held``):
+        ``variant_9_03`` seed 1 from BlazePose's arm decided the other placard on the pointed one's
+        image line, seen in every frame, at one look 0.78 (issue 11, session 39).
+        """
+        if max_age_s <= 0.0 or not self.hypotheses:
+            return None
+        sel = result.selection
+        found = [np.asarray(o.xyz_m, float) for o in (sel.objects if sel is not None else ())]
+        parts = []
+        for h in self.hypotheses:
+            if h.obj is None or h.candidates is None or stamp_s - h.stamp_s > max_age_s:
+                continue
+            if any(float(np.linalg.norm(xyz - h.xyz_m)) <= self.radius_m for xyz in found):
+                continue
+            parts.append(h.candidates.subset(np.asarray(h.obj.members, dtype=int)))
+        if not parts:
+            return None
+        out = parts[0]
+        for part in parts[1:]:
+            out = out.stacked(part)
+        return out
 
     def posterior(self, weight: float | None = None) -> dict:
         """Return the fused posterior per hypothesis key ("none" included), summing to 1.

@@ -45,15 +45,18 @@ def _fuse_frame(bb: Blackboard, result, direction) -> FrameEvidence | None:
             bb.say(f"pointing moved: fused evidence of {len(fusion.frames)} frames restarted")
             fusion.reset()
             bb.weak_lean = None
-    arm_frames = 1
-    if bb.decide_held is not None and c.fusion_arm_frames > 1 and result.arm is not None \
-            and result.status in ("ok", "nothing_on_ray"):
-        if fusion.held_arm.arms.maxlen != c.fusion_arm_frames:
-            fusion.held_arm = HeldArm(c.fusion_arm_frames)
-        fusion.held_arm.add(result.arm)
-        arm_frames = len(fusion.held_arm)
-        result = bb.decide_held(fusion.held_arm.mean(), arm_frames, result)
-    part = fusion.add(result, bb.observation.stamp_s, arm_frames)
+    arm_frames, stamp = 1, bb.observation.stamp_s
+    if bb.decide_held is not None and result.arm is not None:
+        arm, held = result.arm, c.fusion_arm_frames > 1 and result.status in ("ok", "nothing_on_ray")
+        if held:
+            if fusion.held_arm.arms.maxlen != c.fusion_arm_frames:
+                fusion.held_arm = HeldArm(c.fusion_arm_frames)
+            fusion.held_arm.add(result.arm)
+            arm_frames, arm = len(fusion.held_arm), fusion.held_arm.mean()
+        recalled = fusion.recall(result, stamp, c.fusion_recall_s)
+        if held or recalled is not None:
+            result = bb.decide_held(arm, arm_frames, result, recalled)
+    part = fusion.add(result, stamp, arm_frames)
     if part is not None and direction is not None:
         fusion.direction = direction.copy() if fusion.direction is None else fusion.direction + direction
     return part

@@ -19,10 +19,12 @@ from functools import partial
 import numpy as np
 
 from .blobs import unexplained
+from .corridor import merge_candidates
 from .filters import pose_rejection
 from .pipeline import Perception, PerceptionResult
 from .selection import DefaultSelector
-from .values import ArmKeypoints
+from .triangulation import triangulate
+from .values import ArmKeypoints, Candidates
 
 __all__ = ["HeldArm", "decide_held"]
 
@@ -66,18 +68,27 @@ class HeldArm:
             source=f"{a[-1].source} (mean of {len(a)})", disparity_matched=matched, disparity_sigma_px=sigma)
 
 
-def decide_held(perception: Perception, arm: ArmKeypoints, frames: int, result: PerceptionResult) -> PerceptionResult:
+def decide_held(perception: Perception, arm: ArmKeypoints, frames: int, result: PerceptionResult,
+                recalled: Candidates | None = None) -> PerceptionResult:
     """Return ``result``'s candidates decided again with ``arm``, the mean of ``frames`` frames' arms.
 
     The keypoint noise (the prior ``selection.keypoint_sigma_px`` and the selector's own) is divided
-    by sqrt(frames). ``result`` is returned unchanged when it has no decision to redo (its arm failed
-    the checks, it found no object, or the selector is not the default one) or when the mean arm
-    fails the pose filters.
+    by sqrt(frames). ``recalled``: features of objects an earlier frame of the point saw and this one
+    did not (``PointFusion.recall``). Those not within 3 px of one of this frame's join its candidates
+    (``PerceptionResult.recalled`` counts them), so the objects are scored with this frame's arm: a
+    missed detection is not evidence that the arm points elsewhere. ``result`` is returned unchanged
+    when it has no decision to redo (its arm failed the checks, it found no object and nothing is
+    recalled, one frame's arm and nothing recalled, or the selector is not the default one) or when
+    the mean arm fails the pose filters.
     """
     selector = perception.selector
-    if frames < 2 or result.status not in ("ok", "nothing_on_ray") or not isinstance(selector, DefaultSelector):
+    cands, xyz = _with_recalled(perception, result, recalled)
+    extra = len(cands) - len(result.candidates)
+    redo = result.status in ("ok", "nothing_on_ray") or (extra and result.status == "no_candidates"
+                                                          and result.arm3d is not None)
+    if (frames < 2 and not extra) or not redo or not isinstance(selector, DefaultSelector):
         return result
-    scale = 1.0 / math.sqrt(frames)
+    scale = 1.0 / math.sqrt(max(frames, 1))
     params = perception.params
     arm3d = perception.triangulate_arm(arm, params["selection.keypoint_sigma_px"] * scale)
     if pose_rejection(arm3d.xyz_m, params["filters.max_joint_dz_m"], params["filters.min_depth_m"],
@@ -86,12 +97,24 @@ def decide_held(perception: Perception, arm: ArmKeypoints, frames: int, result: 
     held = copy.copy(selector)
     held.model = dataclasses.replace(selector.model, keypoint_sigma_px=selector.model.keypoint_sigma_px * scale)
     spots = result.unrecognised
-    sel = held.select(arm, arm3d, result.candidates, result.candidates_xyz_m, perception.rig,
-                      partial(unexplained, spots))
+    sel = held.select(arm, arm3d, cands, xyz, perception.rig, partial(unexplained, spots))
     if sel.nothing_on_ray:
-        return PerceptionResult("nothing_on_ray", sel.reason, arm, arm3d, result.candidates,
-                                result.candidates_xyz_m, sel, result.timings_ms, unrecognised=spots)
+        return PerceptionResult("nothing_on_ray", sel.reason, arm, arm3d, cands, xyz, sel, result.timings_ms,
+                                unrecognised=spots, recalled=extra)
     if sel.index is None:
         return result
-    return PerceptionResult("ok", "", arm, arm3d, result.candidates, result.candidates_xyz_m, sel, result.timings_ms,
-                            unrecognised=spots)
+    return PerceptionResult("ok", "", arm, arm3d, cands, xyz, sel, result.timings_ms, unrecognised=spots,
+                            recalled=extra)
+
+
+def _with_recalled(perception: Perception, result: PerceptionResult, recalled: Candidates | None
+                   ) -> tuple[Candidates, np.ndarray]:
+    """Return ``result``'s candidates and 3D points (m) followed by the recalled features not already among them."""
+    cands, xyz = result.candidates, result.candidates_xyz_m
+    if recalled is None or not len(recalled):
+        return cands, xyz
+    merged = merge_candidates(cands, recalled, neighbourhood_px=0.0)
+    extra = merged.subset(np.arange(len(cands), len(merged)))
+    if not len(extra):
+        return cands, xyz
+    return merged, np.vstack([xyz.reshape(-1, 3), triangulate(perception.Q, extra.left_px, extra.disparity_px)])

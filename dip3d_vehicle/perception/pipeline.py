@@ -50,6 +50,9 @@ class PerceptionResult:
             not computed on this frame alone.
         unrecognised: the compact spots found along the corridor outside every object, matched to 3D
             (``corridor.blobs``; the selector counts those no object explains as "nothing detected").
+        recalled: the last this many candidates were not seen in this frame but recalled from an earlier
+            frame of the same held point (``held_arm.decide_held``): objects made of them alone were scored
+            with this frame's arm, not sighted.
     """
 
     status: str
@@ -62,6 +65,7 @@ class PerceptionResult:
     timings_ms: dict = field(default_factory=dict)
     candidates_followed: bool = False
     unrecognised: Blobs = field(default_factory=Blobs.empty)
+    recalled: int = 0
 
     @property
     def target_rect_px(self) -> np.ndarray | None:

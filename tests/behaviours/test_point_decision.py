@@ -396,7 +396,7 @@ def test_each_frame_of_a_held_point_is_decided_again_with_the_held_arm(rig):
     m = engaged_mission(rig, **{"behaviour.vote_frames": 4, "behaviour.min_votes": 3, "behaviour.fusion_arm_frames": 3})
     calls = []
 
-    def sharper(arm, frames, result):
+    def sharper(arm, frames, result, recalled=None):
         calls.append((frames, arm.source))
         return _frame({1.0: 0.9, 2.0: 0.02}, 0.08)
 
