@@ -112,3 +112,44 @@ def test_the_pose_models_own_landmark_error_is_kept_not_averaged_by_the_held_arm
     for k in range(4):
         held.add(dataclasses.replace(_arm(100.0 + k), keypoint_sigma_m=0.05))
     assert held.mean().keypoint_sigma_m == 0.05
+
+
+def test_a_frame_that_missed_an_object_scores_it_again_with_its_features_recalled(tmp_path):
+    """On generated far scenes: drop the chosen object's features from a frame (a detection miss), then
+    recall them. The frame without them cannot name the object; with them recalled it gives the object
+    the probability the full frame gave it, and says how many features it recalled."""
+    import scene_families as sf
+    from dip3d_vehicle.config import load_params
+    from dip3d_vehicle.perception.keypoints_file import GivenKeypoints
+    from dip3d_vehicle.perception.pipeline import Perception
+
+    checked_scenes = 0
+    for scene in sf.scenes(tmp_path, "far", 6, 11):
+        truth = scene.frame.meta["keypoints_truth"]
+        rig = scene.scenario.rig()
+        left, right = rig.rectify(scene.frame.left, scene.frame.right)
+        pose = GivenKeypoints("right", truth)
+        perception = Perception(rig, load_params("default"), pose)
+        checked = perception.check_arm(pose.estimate(left, right, rig))
+        if checked.status != "ok":
+            continue
+        cands = perception.add_corridor(left, right, checked.arm,
+                                        perception.detector.detect(left, right, checked.arm, rig))
+        full = perception.decide(checked, cands)
+        if full.status != "ok" or full.selection.target is None:
+            continue
+        target = full.selection.target
+        members = np.asarray(target.members, int)
+        keep = np.ones(len(full.candidates), bool)
+        keep[members] = False
+        missed = perception.decide(checked, full.candidates.subset(keep))
+        objs = missed.selection.objects if missed.selection is not None else ()
+        assert all(np.linalg.norm(o.xyz_m - target.xyz_m) > 0.05 for o in objs)
+        again = decide_held(perception, checked.arm, 1, missed, full.candidates.subset(members))
+        assert again.recalled == len(members)
+        near = [(o, p) for o, p in zip(again.selection.objects, again.selection.scores)
+                if np.linalg.norm(o.xyz_m - target.xyz_m) < 0.05]
+        assert len(near) == 1 and min(near[0][0].members) >= len(again.candidates) - again.recalled
+        assert near[0][1] == pytest.approx(full.selection.confidence, abs=0.02)
+        checked_scenes += 1
+    assert checked_scenes >= 3

@@ -1,0 +1,89 @@
+"""Issue 11 session 39: an object a frame of the held point missed is recalled and scored with that frame's arm."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+import pytest
+
+from behaviours.fusion import PointFusion
+from dip3d_vehicle.perception.values import Candidates, ObjectCandidate
+from test_point_decision import _frame
+from mission_driver import engaged_mission, enter
+from test_point_decision import _feed, rig  # noqa: F401  (the rig fixture)
+
+
+def _recalled(result, objects: dict, none_p: float):
+    """``result`` with its candidates followed by 3 recalled ones and one object of them alone per x (metres)."""
+    sel = result.selection
+    n = len(result.candidates)
+    extra = Candidates(np.ones((3, 2)), np.ones((3, 2)), np.zeros((3, 128), np.float32), np.zeros(3))
+    objs = list(sel.objects)
+    scores = list(sel.scores)
+    for x, p in objects.items():
+        objs.append(ObjectCandidate(np.array([800.0 + 100 * x, 600.0]), np.array([x, 0.0, 3.0]), 0.02,
+                                    (n, n + 1, n + 2)))
+        scores.append(p)
+    sel = dataclasses.replace(sel, objects=tuple(objs), scores=np.array(scores), none_probability=none_p)
+    return dataclasses.replace(result, candidates=result.candidates.stacked(extra),
+                               candidates_xyz_m=np.vstack([result.candidates_xyz_m, np.full((3, 3), 3.0)]),
+                               selection=sel, recalled=3)
+
+
+def test_a_hypothesis_the_frame_missed_is_recalled_while_its_sighting_is_recent():
+    f = PointFusion(0.3)
+    f.add(_frame({1.0: 0.5, 2.0: 0.3}, 0.2), 0.0)
+    missed = _frame({1.0: 0.7}, 0.3)                       # placard 2 not detected in this frame
+    got = f.recall(missed, 0.2, 4.0)
+    assert got is not None and len(got) == 3                # o2's sighting: its 3 features
+    assert f.recall(_frame({1.0: 0.5, 2.0: 0.3}, 0.2), 0.2, 4.0) is None   # seen: nothing to recall
+    assert f.recall(missed, 0.2, 0.0) is None               # off
+    assert f.recall(missed, 5.0, 4.0) is None               # the sighting is too old
+
+
+def test_a_recalled_object_counts_its_probability_but_is_not_a_sighting():
+    f = PointFusion(0.3, floor_p=0.02)
+    f.add(_frame({1.0: 0.5, 2.0: 0.3}, 0.2), 0.0)
+    o2 = f.hypothesis("o2")
+    pool, stamp = len(o2.pool), o2.stamp_s
+    part = f.add(_recalled(_frame({1.0: 0.4}, 0.2), {2.0: 0.4}, 0.2), 0.2)
+    assert part.probabilities["o2"] == pytest.approx(0.4)   # scored with the frame's arm, not the floor 0.02
+    assert len(o2.pool) == pool and o2.stamp_s == stamp     # the tracker's sighting stays the one seen
+    assert len(f.hypotheses) == 2
+
+
+def test_without_recall_a_missed_frame_votes_against_the_object_with_it_the_point_stays_undecided():
+    """Frames that miss placard 2 (3 of 4) gave it the floor: the steadily seen neighbour won. With
+    its probability from each frame's arm, the two stay apart by what the arm says, not by the detector."""
+    def run(recall: bool) -> dict:
+        f = PointFusion(0.3, floor_p=0.02)
+        for k in range(8):
+            if k % 4 == 0:
+                f.add(_frame({1.0: 0.45, 2.0: 0.4}, 0.15), 0.2 * k)
+            else:
+                missed = _frame({2.0: 0.75}, 0.25)
+                if recall and f.recall(missed, 0.2 * k, 4.0) is not None:
+                    missed = _recalled(_frame({2.0: 0.4}, 0.15), {1.0: 0.45}, 0.15)
+                f.add(missed, 0.2 * k)
+        return f.decide(0.9, 3)
+
+    before, after = run(False), run(True)
+    assert before.kind == "object" and before.winner.key == "o2"
+    assert after.kind == "undecided" and after.posterior["o1"] > 0.25
+
+
+def test_the_mission_passes_the_missed_objects_features_to_decide_held(rig):  # noqa: F811
+    for recall_s, expect in ((4.0, [None, 3]), (0.0, [None, None])):
+        m = engaged_mission(rig, **{"behaviour.vote_frames": 4, "behaviour.min_votes": 3,
+                                    "behaviour.fusion_arm_frames": 3, "behaviour.fusion_recall_s": recall_s})
+        got = []
+
+        def held(arm, frames, result, recalled=None):
+            got.append(None if recalled is None else len(recalled))
+            return result
+
+        m.bb.decide_held = held
+        enter(m, "select_target")
+        _feed(m, [_frame({1.0: 0.5, 2.0: 0.3}, 0.2), _frame({1.0: 0.7}, 0.3)])
+        assert got == expect
