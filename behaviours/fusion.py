@@ -7,8 +7,9 @@ frames: the vehicle holds still while it watches) and "none". Their fused log sc
 
     L(h) = w * sum_frames log max(p_frame(h), floor_p),   w = min(temper, 1 / W, max_effective_frames / n)
 
-(an object a frame did not see gets ``floor_p``: that frame gave it no support), and the fused
-posterior is softmax(L). ``temper`` < 1 accounts for the frames not being independent (the same
+(an object a frame did not see gets ``floor_p``: that frame gave it no support; but an object an
+earlier frame of the point saw is first recalled into the frame, ``recall``, and scored with its
+arm), and the fused posterior is softmax(L). ``temper`` < 1 accounts for the frames not being independent (the same
 pointing error, the same scene): with ``temper`` = 0.5, six frames count as three independent ones.
 Each frame is decided with the mean arm of the last W frames (``held_arm``,
 ``behaviour.fusion_arm_frames``), so one frame's keypoints (and their noise) are in W frames' arms:

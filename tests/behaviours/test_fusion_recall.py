@@ -9,9 +9,14 @@ import pytest
 
 from behaviours.fusion import PointFusion
 from dip3d_vehicle.perception.values import Candidates, ObjectCandidate
-from test_point_decision import _frame
 from mission_driver import engaged_mission, enter
-from test_point_decision import _feed, rig  # noqa: F401  (the rig fixture)
+from sitl.scenario import load_scenario
+from test_point_decision import _feed, _frame
+
+
+@pytest.fixture(scope="module")
+def rig():
+    return load_scenario("paper_pool", 0).rig()
 
 
 def _recalled(result, objects: dict, none_p: float):
@@ -73,7 +78,7 @@ def test_without_recall_a_missed_frame_votes_against_the_object_with_it_the_poin
     assert after.kind == "undecided" and after.posterior["o1"] > 0.25
 
 
-def test_the_mission_passes_the_missed_objects_features_to_decide_held(rig):  # noqa: F811
+def test_the_mission_passes_the_missed_objects_features_to_decide_held(rig):
     for recall_s, expect in ((4.0, [None, 3]), (0.0, [None, None])):
         m = engaged_mission(rig, **{"behaviour.vote_frames": 4, "behaviour.min_votes": 3,
                                     "behaviour.fusion_arm_frames": 3, "behaviour.fusion_recall_s": recall_s})
