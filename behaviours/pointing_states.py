@@ -37,7 +37,8 @@ def _fuse_frame(bb: Blackboard, result, direction) -> FrameEvidence | None:
         bb.fusion = PointFusion(c.vote_radius_m, c.fusion_temper, c.fusion_floor_p, c.fusion_no_objects_none_p,
                                 c.fusion_max_effective_frames, c.fusion_min_shared_posterior,
                                 shared_rule=c.fusion_shared_rule,
-                                min_pose_shared_posterior=c.fusion_min_pose_shared_posterior)
+                                min_pose_shared_posterior=c.fusion_min_pose_shared_posterior,
+                                recall_s=c.fusion_recall_s)
     fusion = bb.fusion
     if direction is not None and fusion.direction is not None:
         mean = fusion.direction / max(float(np.linalg.norm(fusion.direction)), 1e-9)
@@ -53,7 +54,7 @@ def _fuse_frame(bb: Blackboard, result, direction) -> FrameEvidence | None:
                 fusion.held_arm = HeldArm(c.fusion_arm_frames)
             fusion.held_arm.add(result.arm)
             arm_frames, arm = len(fusion.held_arm), fusion.held_arm.mean()
-        recalled = fusion.recall(result, stamp, c.fusion_recall_s)
+        recalled = fusion.recall(result, stamp)
         if held or recalled is not None:
             result = bb.decide_held(arm, arm_frames, result, recalled)
     part = fusion.add(result, stamp, arm_frames)

@@ -37,18 +37,20 @@ def _recalled(result, objects: dict, none_p: float):
 
 
 def test_a_hypothesis_the_frame_missed_is_recalled_while_its_sighting_is_recent():
-    f = PointFusion(0.3)
+    f = PointFusion(0.3, recall_s=4.0)
     f.add(_frame({1.0: 0.5, 2.0: 0.3}, 0.2), 0.0)
     missed = _frame({1.0: 0.7}, 0.3)                       # placard 2 not detected in this frame
-    got = f.recall(missed, 0.2, 4.0)
+    got = f.recall(missed, 0.2)
     assert got is not None and len(got) == 3                # o2's sighting: its 3 features
-    assert f.recall(_frame({1.0: 0.5, 2.0: 0.3}, 0.2), 0.2, 4.0) is None   # seen: nothing to recall
-    assert f.recall(missed, 0.2, 0.0) is None               # off
-    assert f.recall(missed, 5.0, 4.0) is None               # the sighting is too old
+    assert f.recall(_frame({1.0: 0.5, 2.0: 0.3}, 0.2), 0.2) is None   # seen: nothing to recall
+    assert f.recall(missed, 5.0) is None                    # the sighting is too old
+    off = PointFusion(0.3)
+    off.add(_frame({1.0: 0.5, 2.0: 0.3}, 0.2), 0.0)
+    assert off.recall(missed, 0.2) is None                  # off
 
 
 def test_a_recalled_object_counts_its_probability_but_is_not_a_sighting():
-    f = PointFusion(0.3, floor_p=0.02)
+    f = PointFusion(0.3, floor_p=0.02, recall_s=4.0)
     f.add(_frame({1.0: 0.5, 2.0: 0.3}, 0.2), 0.0)
     o2 = f.hypothesis("o2")
     pool, stamp = len(o2.pool), o2.stamp_s
@@ -62,13 +64,13 @@ def test_without_recall_a_missed_frame_votes_against_the_object_with_it_the_poin
     """Frames that miss placard 2 (3 of 4) gave it the floor: the steadily seen neighbour won. With
     its probability from each frame's arm, the two stay apart by what the arm says, not by the detector."""
     def run(recall: bool) -> dict:
-        f = PointFusion(0.3, floor_p=0.02)
+        f = PointFusion(0.3, floor_p=0.02, recall_s=4.0 if recall else 0.0)
         for k in range(8):
             if k % 4 == 0:
                 f.add(_frame({1.0: 0.45, 2.0: 0.4}, 0.15), 0.2 * k)
             else:
                 missed = _frame({2.0: 0.75}, 0.25)
-                if recall and f.recall(missed, 0.2 * k, 4.0) is not None:
+                if f.recall(missed, 0.2 * k) is not None:
                     missed = _recalled(_frame({2.0: 0.4}, 0.15), {1.0: 0.45}, 0.15)
                 f.add(missed, 0.2 * k)
         return f.decide(0.9, 3)
@@ -76,6 +78,25 @@ def test_without_recall_a_missed_frame_votes_against_the_object_with_it_the_poin
     before, after = run(False), run(True)
     assert before.kind == "object" and before.winner.key == "o2"
     assert after.kind == "undecided" and after.posterior["o1"] > 0.25
+
+
+def test_an_object_first_seen_late_starts_from_nothing_detecteds_frames_not_the_floor():
+    """``near_miss`` seed 3's shape: for 20 frames the arm leans half to a decoy, half to "nothing
+    detected"; then the small pointed placard is found and takes half of each frame. Counted from the
+    floor it could never win, and recalled it took "none"'s share: the decoy won. From "none"'s frames
+    (it was one of the undetected objects they stood for) the point stays undecided."""
+    def run(recall_s: float):
+        f = PointFusion(0.3, floor_p=0.02, recall_s=recall_s)
+        for k in range(20):
+            f.add(_frame({1.0: 0.52}, 0.48), 0.2 * k)
+        for k in range(20, 30):
+            f.add(_frame({1.0: 0.45, (0.5, 0.0, 1.5): 0.47}, 0.08), 0.2 * k)
+        return f
+
+    late = run(4.0)
+    assert late.hypothesis("o2").log_sum > run(0.0).hypothesis("o2").log_sum
+    d = late.decide(0.9, 3)
+    assert d.kind == "undecided" and d.posterior["o2"] > 0.25
 
 
 def test_the_mission_passes_the_missed_objects_features_to_decide_held(rig):
