@@ -101,7 +101,7 @@ class BlobFinder:
     """
 
     def __init__(self, inner_sigma_px: float = 2.0, outer_sigma_px: float = 5.0, min_contrast_sigmas: float = 6.0,
-                 min_contrast: float = 3.0, edge_ratio: float = 6.0, max_blobs: int = 12, min_score: float = 0.7,
+                 min_contrast: float = 2.5, edge_ratio: float = 6.0, max_blobs: int = 12, min_score: float = 0.7,
                  min_depth_m: float = 1.0, max_depth_m: float = 12.0, scale: float = 0.5, max_beside: int = 2,
                  beside_max_sigma_px: float = 1.0) -> None:
         self.scale = scale
