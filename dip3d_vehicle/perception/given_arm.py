@@ -70,9 +70,8 @@ def match_arm(arm: ArmKeypoints, left: np.ndarray, right: np.ndarray, sign: int,
     on the body behind it is set aside (``matched_on_body``; the body's depth from the head, else
     the shoulder's match). A match
     within ``MATCH_GROSS_SIGMAS`` of the given disparity (sigma ``given_sigma_px``) is combined with
-    it by inverse variance: the joint lies on one row at that disparity, with that sigma, its left
-    position the mean of the two eyes' placements (``_placed``); a farther one, or none, leaves the
-    joint as given. Given the principal point and the
+    it by inverse variance: the joint moves to the left joint's row at that disparity, with that
+    sigma; a farther one, or none, leaves the joint as given. Given the principal point and the
     limbs' plausible lengths (``limbs_m``: upper arm, forearm, metres), matches that make a limb
     impossible are dropped, or a match the gross check set aside is taken after all, whichever of the
     fewest makes every limb plausible (``limb_switches``: a wrist matched on the object behind it; a given
@@ -112,29 +111,10 @@ def match_arm(arm: ArmKeypoints, left: np.ndarray, right: np.ndarray, sign: int,
         restored = flip & ~m      # a match the gross check set aside: its own disparity, not pulled by the given
         combined[restored], final_sigma[restored] = found.disparity_px[restored], match_sigma[restored]
         m = m ^ flip
-    else:
-        restored = np.zeros_like(m)
     if not np.any(m):
         return arm
-    left_px, right_px = _placed(arm, combined, m, m & ~restored)
-    sigma = np.where(m, final_sigma, np.nan)
-    return dataclasses.replace(arm, left_px=left_px, right_px=right_px, disparity_sigma_px=sigma,
-                               disparity_matched=m.copy())
-
-
-def _placed(arm: ArmKeypoints, disparity_px: np.ndarray, matched: np.ndarray, both: np.ndarray
-            ) -> tuple[np.ndarray, np.ndarray]:
-    """Return the joints' (left, right) rectified pixels at their matched disparities (pixels).
-
-    A matched joint lies on one row at ``disparity_px``. Where the right keypoint agrees with the match
-    (``both``), it is a second, independent placement of the joint: the left position is the mean of the
-    left keypoint and the right one moved by the disparity (in x and y), which halves the keypoints'
-    placement variance across the arm's line. Elsewhere the left keypoint stands alone.
-    """
-    left_px = np.array(arm.left_px, dtype=float, copy=True)
     right_px = np.array(arm.right_px, dtype=float, copy=True)
-    left_px[both, 0] = 0.5 * (arm.left_px[both, 0] + arm.right_px[both, 0] + disparity_px[both])
-    left_px[both, 1] = 0.5 * (arm.left_px[both, 1] + arm.right_px[both, 1])
-    right_px[matched, 0] = left_px[matched, 0] - disparity_px[matched]
-    right_px[matched, 1] = left_px[matched, 1]
-    return left_px, right_px
+    right_px[m, 0] = arm.left_px[m, 0] - combined[m]
+    right_px[m, 1] = arm.left_px[m, 1]
+    sigma = np.where(m, final_sigma, np.nan)
+    return dataclasses.replace(arm, right_px=right_px, disparity_sigma_px=sigma, disparity_matched=m.copy())

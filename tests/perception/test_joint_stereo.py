@@ -198,24 +198,15 @@ def test_match_arm_measures_each_joints_disparity_and_its_own_sigma():
     rng = np.random.default_rng(0)
     fb = 920.0 * 0.12
     shoulder = fb / (fb / 37.0 + SHOULDER_SURFACE_M)       # the joint behind the matched surface: 36.6 px
-    truth = np.array([[200.0, 100.0], [250.0, 60.0], [300.0, 120.0]])
-    given_err, placed_err = [], []
     for _ in range(10):
         arm = _noisy_arm(37.0, rng)
         out = match_arm(arm, left, right, 1, 920.0, 0.12, floor_px=0.5, given_sigma_px=1e6)
         assert out.disparity_matched.all()
-        d = out.left_px[:, 0] - out.right_px[:, 0]
-        assert np.allclose(d, [shoulder, 37.0, 37.0], atol=0.35)
-        # each eye placed the joint independently: the left position is the mean of both placements
-        assert np.allclose(out.left_px, 0.5 * (arm.left_px + arm.right_px + np.c_[d, np.zeros(3)]))
-        assert np.array_equal(out.right_px[:, 1], out.left_px[:, 1])
-        given_err.append(arm.left_px - truth)
-        placed_err.append(out.left_px - truth)
+        assert np.allclose(out.left_px[:, 0] - out.right_px[:, 0], [shoulder, 37.0, 37.0], atol=0.35)
+        assert np.array_equal(out.right_px[:, 1], out.left_px[:, 1]) and np.array_equal(out.left_px, arm.left_px)
         floor = 0.5 * JOINT_FLOOR_FACTOR
         floor[0] = max(floor[0], shoulder ** 2 / fb * SHOULDER_MATCH_SIGMA_M)    # the deltoid's surface
         assert np.all(out.disparity_sigma_px >= 0.98 * floor) and np.all(out.disparity_sigma_px <= 1.02 * np.maximum(floor, 1.0))
-    rms = [float(np.sqrt(np.mean(np.square(e)))) for e in (given_err, placed_err)]
-    assert rms[1] < 0.85 * rms[0]                   # ~1/sqrt(2) of the left keypoints' own placement error
 
 
 def test_match_arm_keeps_what_it_cannot_match():
