@@ -13,10 +13,12 @@ import math
 
 import numpy as np
 
-from .joint_stereo import head_disparity, joint_disparities, limb_switches, matched_on_body
+from .joint_stereo import HEAD_PATCHES_M, head_disparity, head_match, joint_disparities, limb_switches, matched_on_body
+from .shoulder_model import head_torso_shoulder, mirrored_shoulder_px, side_log_odds, two_way
 from .values import ArmKeypoints
 
-__all__ = ["match_arm", "MATCH_GROSS_SIGMAS", "SHOULDER_MATCH_SIGMA_M", "SHOULDER_SURFACE_M", "WRIST_HAND_SHARE"]
+__all__ = ["match_arm", "MATCH_GROSS_SIGMAS", "SHOULDER_MATCH_SIGMA_M", "SHOULDER_SURFACE_M", "WRIST_HAND_SHARE",
+           "OTHER_SHOULDER_SIGMA_M", "SHOULDER_SOURCES"]
 
 SHOULDER_MATCH_SIGMA_M = 0.05
 """One-sigma depth error (metres) of a given arm's matched shoulder, once moved back by
@@ -42,15 +44,51 @@ this share (from the shoulder's own match, else its given disparity) the raw wri
 0.44 / 0.79 -> 0.24 / 0.79, 0.37 / 0.98 -> 0.24 / 0.72 and 0.57 / 1.14 -> 0.35 / 0.89 px (issue 11, session 34,
 ``docs/issue11/session34/scripts/wrist_share.py``)."""
 
+OTHER_SHOULDER_SIGMA_M = 0.05
+"""Depth doubt (metres) added to the other shoulder's match when it votes on the torso's side (``head_torso``): on the
+far side it hides behind the torso, and its patch shows the torso's flank."""
+
+SHOULDER_SOURCES = ("patch", "head_torso")
+"""Where a given arm's shoulder depth comes from (``pose.match_disparity_shoulder``)."""
+
 MATCH_GROSS_SIGMAS = 3.0
 """A joint's match further than this many combined sigmas from the given keypoints' disparity is a wrong
 match (an elbow's patch locked on the torso behind it) and is dropped."""
 
 
+def torso_shoulder(arm: ArmKeypoints, left: np.ndarray, right: np.ndarray, sign: int, focal_px: float,
+                   baseline_m: float, principal_x_px: float, body_px: float, given_sigma_px: float,
+                   own: tuple[float, float] | None) -> tuple[float, float] | None:
+    """Return the pointing shoulder's disparity and sigma from the head and the torso's turn (pixels), or None.
+
+    ``shoulder_model.head_torso_shoulder`` gives it on either side of the torso; which side is weighed by
+    the given disparity (``given_sigma_px``), the shoulder's own match (``own``, or None) and the other
+    shoulder's match where the head mirrors the shoulder (0.12 m patch, ``OTHER_SHOULDER_SIGMA_M`` added):
+    a two-way mixture by their likelihoods. None without the head's point or its match.
+    """
+    head_px = (arm.extra_left_px or {}).get("head")
+    head = head_match(head_px, left, right, body_px, sign, focal_px, baseline_m)
+    if head is None:
+        return None
+    landmark_px = given_sigma_px / math.sqrt(2.0)
+    near, far = head_torso_shoulder(head, head_px, arm.left_px[0], focal_px, baseline_m, principal_x_px, landmark_px)
+    log_far = side_log_odds((float(arm.left_px[0, 0] - arm.right_px[0, 0]), given_sigma_px), near, far)
+    if own is not None:
+        log_far += side_log_odds(own, near, far)
+    other_px = mirrored_shoulder_px(head_px, arm.left_px[0])
+    other = joint_disparities(left, right, other_px[None], body_px, sign, focal_px, baseline_m, patch_m=HEAD_PATCHES_M[0])
+    if other.matched[0]:
+        o_near, o_far = head_torso_shoulder(head, head_px, other_px, focal_px, baseline_m, principal_x_px, landmark_px)
+        doubt = other.disparity_px[0] ** 2 / (focal_px * baseline_m) * OTHER_SHOULDER_SIGMA_M
+        log_far -= side_log_odds((float(other.disparity_px[0]), math.hypot(other.sigma_px[0], doubt)), o_near, o_far)
+    return two_way(near, far, 1.0 / (1.0 + math.exp(-float(np.clip(log_far, -50.0, 50.0)))))
+
+
 def match_arm(arm: ArmKeypoints, left: np.ndarray, right: np.ndarray, sign: int, focal_px: float,
               baseline_m: float, floor_px: float, given_sigma_px: float, patch_m: float = 0.06,
               principal_px: tuple[float, float] | None = None,
-              limbs_m: tuple[tuple[float, float], tuple[float, float]] | None = None) -> ArmKeypoints:
+              limbs_m: tuple[tuple[float, float], tuple[float, float]] | None = None,
+              shoulder_from: str = "patch") -> ArmKeypoints:
     """Return an arm with no disparity sigma of its own, each joint's disparity matched along its row (pixels).
 
     For a pose source that places each image's keypoints independently (a keypoints file, the
@@ -78,6 +116,8 @@ def match_arm(arm: ArmKeypoints, left: np.ndarray, right: np.ndarray, sign: int,
     wrist 8 px off its right match). The limbs are judged on the matches themselves, not on their
     combination with the given disparities (with noisy keypoints, 4 px, the combination pulls a right
     match off).
+    With ``shoulder_from`` "head_torso" (and the principal point) the shoulder is ``torso_shoulder``'s wherever
+    the head matched (its own match only votes on the torso's side); "patch" (the default) is the above.
     The arm is returned unchanged when its keypoints give no positive disparity.
     """
     disparity = arm.left_px[:, 0] - arm.right_px[:, 0]
@@ -94,6 +134,11 @@ def match_arm(arm: ArmKeypoints, left: np.ndarray, right: np.ndarray, sign: int,
         found.disparity_px[0] = sign * fb / (fb / abs(found.disparity_px[0]) + SHOULDER_SURFACE_M)
     match_sigma[0] = max(match_sigma[0], found.disparity_px[0] ** 2 / fb * SHOULDER_MATCH_SIGMA_M)
     matched = found.matched.copy()
+    if shoulder_from == "head_torso" and principal_px is not None:
+        own = (float(found.disparity_px[0]), float(match_sigma[0])) if matched[0] else None
+        torso = torso_shoulder(arm, left, right, sign, focal_px, baseline_m, principal_px[0], body, given_sigma_px, own)
+        if torso is not None:
+            (found.disparity_px[0], match_sigma[0]), matched[0] = torso, True
     head = head_disparity((arm.extra_left_px or {}).get("head"), left, right, body, sign, focal_px, baseline_m)
     if head is not None and not matched[0]:
         found.disparity_px[0], match_sigma[0], matched[0] = head[0], head[1], True

@@ -20,7 +20,7 @@ import numpy as np
 __all__ = ["JOINT_FLOOR_FACTOR", "match_joint_disparity", "subpixel_peak",
            "joint_disparities", "JointDisparity", "reach_disparities",
            "ARM_REACH_M", "TORSO_DEPTH_M", "in_front_of_body", "match_point", "limb_excess_sigmas", "LIMB_SIGMAS",
-           "limb_switches", "limb_spans_m", "unmatched_sigma_px", "head_disparity", "on_background", "patch_half_px",
+           "limb_switches", "limb_spans_m", "unmatched_sigma_px", "head_disparity", "head_match", "on_background", "patch_half_px",
            "BACKGROUND_SIDE_M", "BACKGROUND_SAME_PX", "HEAD_SHOULDER_SIGMA_M", "matched_on_body"]
 
 
@@ -405,17 +405,27 @@ def head_disparity(head_px, left: np.ndarray, right: np.ndarray, body_px: float,
     of ``HEAD_PATCHES_M`` matched. The head stands for the torso's depth: the shoulder's sigma is at
     least ``HEAD_SHOULDER_SIGMA_M``.
     """
+    found = head_match(head_px, left, right, body_px, sign, focal_px, baseline_m)
+    if found is None:
+        return None
+    d = found[0]
+    return d, max(found[1], d ** 2 / (focal_px * baseline_m) * HEAD_SHOULDER_SIGMA_M)
+
+
+def head_match(head_px, left: np.ndarray, right: np.ndarray, body_px: float, sign: int,
+               focal_px: float, baseline_m: float) -> tuple[float, float] | None:
+    """Return the head's own matched disparity and its sigma (pixels: the patch's surface), or None.
+
+    The first of ``HEAD_PATCHES_M`` that matches; None without a head point or when none matched.
+    """
     if head_px is None:
         return None
     for patch_m in HEAD_PATCHES_M:
         found = joint_disparities(left, right, np.array([head_px], float), body_px, sign, focal_px, baseline_m,
                                   patch_m=patch_m)
         if found.matched[0]:
-            break
-    else:
-        return None
-    d = float(found.disparity_px[0])
-    return d, max(float(found.sigma_px[0]), d ** 2 / (focal_px * baseline_m) * HEAD_SHOULDER_SIGMA_M)
+            return float(found.disparity_px[0]), float(found.sigma_px[0])
+    return None
 
 
 def matched_on_body(left_xy: np.ndarray, disparity_px: np.ndarray, matched: np.ndarray, body_px: float,

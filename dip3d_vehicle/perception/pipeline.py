@@ -325,7 +325,7 @@ class Perception:
         return match_arm(arm, left_rect, right_rect, self.rig.disparity_sign, self.rig.focal_px, self.rig.baseline_m,
                          float(self.params["pose.match_disparity_floor_px"]), given_sigma_px,
                          float(self.params["pose.match_disparity_patch_m"]), self.rig.principal_point_px,
-                         limb_spans_m(self.params))
+                         limb_spans_m(self.params), self.params["pose.match_disparity_shoulder"])
 
     def check_arm(self, arm: ArmKeypoints | None) -> PerceptionResult:
         """Triangulate and filter the arm; status "ok" when it may be used for selection."""

@@ -14,7 +14,8 @@ from collections import deque
 import numpy as np
 
 __all__ = ["SHOULDER_WIDTH_M", "SHOULDER_MODEL_SIGMA_M", "SHOULDER_SIDE_DOUBT", "SHOULDER_ORDER_FRAMES",
-           "ShoulderOrder", "shoulder_disparity", "reconcile", "torso_shoulder_disparity"]
+           "HEAD_BEFORE_SHOULDERS_M", "HEAD_TORSO_SIGMA_M", "ShoulderOrder", "shoulder_disparity", "reconcile",
+           "torso_shoulder_disparity", "two_way", "head_torso_shoulder", "mirrored_shoulder_px", "side_log_odds"]
 
 
 SHOULDER_WIDTH_M = (0.38, 0.03)
@@ -147,8 +148,97 @@ def torso_shoulder_disparity(body_disparity_px: float, shoulders_apart_px: float
     """
     said = shoulder_disparity(body_disparity_px, shoulders_apart_px, near, focal_px, baseline_m)
     other = shoulder_disparity(body_disparity_px, shoulders_apart_px, not near, focal_px, baseline_m)
-    p = float(side_doubt)
-    mean = (1.0 - p) * said[0] + p * other[0]
-    var = (1.0 - p) * said[1] ** 2 + p * other[1] ** 2 + p * (1.0 - p) * (said[0] - other[0]) ** 2
-    sigma = math.hypot(math.sqrt(var), mean ** 2 / (focal_px * baseline_m) * model_sigma_m)
+    mean, spread = two_way(said, other, float(side_doubt))
+    sigma = math.hypot(spread, mean ** 2 / (focal_px * baseline_m) * model_sigma_m)
     return reconcile([(mean, sigma)] + ([head] if head is not None else []))
+
+
+def two_way(first: tuple[float, float], second: tuple[float, float], p_second: float) -> tuple[float, float]:
+    """Return the mean and sigma of a two-way mixture of (value, sigma) estimates, ``second`` with probability ``p_second``.
+
+    Examples:
+        >>> two_way((10.0, 1.0), (20.0, 1.0), 0.0)
+        (10.0, 1.0)
+        >>> round(two_way((10.0, 1.0), (20.0, 1.0), 0.5)[1], 2)
+        5.1
+    """
+    p = float(np.clip(p_second, 0.0, 1.0))
+    mean = (1.0 - p) * first[0] + p * second[0]
+    var = (1.0 - p) * first[1] ** 2 + p * second[1] ** 2 + p * (1.0 - p) * (first[0] - second[0]) ** 2
+    return mean, math.sqrt(var)
+
+
+HEAD_BEFORE_SHOULDERS_M = 0.023
+"""How far (metres) the head's matched surface lies before the line joining the two shoulder joints (seen along the
+view). Measured on the open-set families (issue 11 session 44, ``docs/issue11/session44/scripts/torso_eval.py``, 2 px,
+6 scenes a family, 4 draws each): with 0 the model's shoulder on its true side lay 0.021 / 0.025 m behind the truth
+joint (median, seeds 500 / 1300); with 0.023 on fresh seed 2100, 0.003 m (|error| p90 0.054 m)."""
+
+HEAD_TORSO_SIGMA_M = 0.03
+"""One-sigma depth error (metres) of ``head_torso_shoulder`` beyond the landmarks' and the head match's own: the head's
+surface minus the shoulder's depth against half a shoulder width times the torso's turn varies by 0.015-0.019 m (MAD),
+p90 0.047-0.057 m (210 draws, seeds 500 and 1300, ``docs/issue11/session44/scripts/head_offset_bins.py``)."""
+
+
+def _along_view(across: float, slope: float) -> tuple[float, float]:
+    """Return the (smaller, larger) |z| of a unit shoulder axis whose across-view share is across + slope |z|, 0-1.
+
+    (x^2 + z^2 = 1.) Off the image centre two turns can give the same image offset (both roots positive):
+    both are returned; (0, 0) when none fits (the offset is wider than half a shoulder width allows: the
+    torso faces the camera).
+    """
+    root = 1.0 + slope * slope - across * across
+    if root <= 0.0:
+        return 0.0, 0.0
+    roots = [(-across * slope + k * math.sqrt(root)) / (1.0 + slope * slope) for k in (-1.0, 1.0)]
+    valid = [float(np.clip(r, 0.0, 1.0)) for r in roots if r >= 0.0] or [0.0]
+    return min(valid), max(valid)
+
+
+def head_torso_shoulder(head: tuple[float, float], head_left_px, shoulder_left_px, focal_px: float, baseline_m: float,
+                        principal_x_px: float, keypoint_sigma_px: float,
+                        width_m: tuple[float, float] = SHOULDER_WIDTH_M) -> tuple[tuple[float, float], tuple[float, float]]:
+    """Return a shoulder's (disparity, sigma) on the near side and on the far side of the torso (pixels).
+
+    The head sits above the middle of the line joining the shoulders, its matched surface (``head``: the
+    head's own match, disparity and sigma) ``HEAD_BEFORE_SHOULDERS_M`` before it. The shoulder lies half a
+    shoulder width along that line: its image offset from the head gives the line's share across the view
+    (in perspective, at the shoulder's own depth), the rest lies along the view (the torso's turn), toward
+    the camera (near) or away from it (far). Where two turns fit the offset (off the image centre) the
+    shoulder lies between them, with half their difference as doubt. The sigma holds the landmarks' ``keypoint_sigma_px``, the head
+    match's, people's shoulder widths and ``HEAD_TORSO_SIGMA_M``.
+    """
+    fb = focal_px * baseline_m
+    half, half_sigma = 0.5 * width_m[0], 0.5 * width_m[1]
+    centre_m = fb / max(abs(head[0]), 1e-6) + HEAD_BEFORE_SHOULDERS_M
+    ray_s = (shoulder_left_px[0] - principal_x_px) / focal_px
+    ray_h = (head_left_px[0] - principal_x_px) / focal_px
+    across = (ray_s - ray_h) * centre_m / half
+    across_sigma = math.sqrt(2.0) * keypoint_sigma_px / focal_px * centre_m / half
+    head_sigma_m = centre_m ** 2 / fb * head[1]
+    sign = 1.0 if head[0] >= 0 else -1.0
+    out = []
+    for side in (-1.0, 1.0):
+        lo, hi = _along_view(across, side * ray_s)
+        turn = 0.5 * (lo + hi)
+        noise = 0.5 * abs(sum(_along_view(across + across_sigma, side * ray_s))
+                          - sum(_along_view(across - across_sigma, side * ray_s))) / 2.0
+        turn_sigma = math.hypot(noise, 0.5 * (hi - lo))   # the landmarks' noise, and two turns that fit
+        depth = max(centre_m + side * half * turn, 0.1)
+        sigma_m = math.hypot(math.hypot(HEAD_TORSO_SIGMA_M, head_sigma_m), math.hypot(half * turn_sigma, half_sigma * turn))
+        out.append((sign * fb / depth, fb / depth ** 2 * sigma_m))
+    return out[0], out[1]
+
+
+def mirrored_shoulder_px(head_left_px, shoulder_left_px) -> np.ndarray:
+    """Return where the other shoulder lies in the image (pixels): the shoulder mirrored about the head's vertical."""
+    return np.array([2.0 * float(head_left_px[0]) - float(shoulder_left_px[0]), float(shoulder_left_px[1])])
+
+
+def side_log_odds(observed: tuple[float, float], near: tuple[float, float], far: tuple[float, float]) -> float:
+    """Return the log likelihood ratio, far side against near side, of an observed (disparity, sigma), pixels."""
+    out = 0.0
+    for (d, s), sign in ((far, 1.0), (near, -1.0)):
+        var = s * s + observed[1] ** 2
+        out += sign * (-0.5 * (observed[0] - d) ** 2 / var - 0.5 * math.log(var))
+    return out
