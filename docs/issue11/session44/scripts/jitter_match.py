@@ -1,0 +1,44 @@
+"""Per draw (2 px): a joint's raw 0.06 m patch match at the noisy keypoint vs the median over a small jitter grid.
+
+    python docs/issue11/session44/scripts/jitter_match.py N SEED [STEP_PX]
+"""
+import sys
+import numpy as np
+sys.path.insert(0, "docs/issue11/session44/scripts")
+from draws import noisy_draws  # noqa: E402
+from dip3d_vehicle.perception.joint_stereo import match_point, reach_disparities, patch_half_px, MATCH_MIN_SCORE  # noqa: E402
+
+n, seed0 = int(sys.argv[1]), int(sys.argv[2])
+step = float(sys.argv[3]) if len(sys.argv) > 3 else 2.0
+
+
+def raw(left, right, x, y, body, sign, f, b):
+    """One patch's match disparity (signed px) or nan."""
+    d_lo, d_hi = reach_disparities(body, f * b)
+    got = match_point(left, right, int(round(x)), int(round(y)), d_lo, d_hi, sign, patch_half_px(body, b, 0.06),
+                      MATCH_MIN_SCORE, 1.5)
+    return np.nan if got is None else sign * got[0]
+
+
+rows = []
+for family, k, draw, rig, left, right, perception, arm, g in noisy_draws(n, seed0, 2.0, 4):
+    td = arm.left_px[:, 0] - arm.right_px[:, 0]
+    body = float(np.median(g.left_px[:, 0] - g.right_px[:, 0]))
+    out = []
+    for j in (0, 2):
+        x, y = g.left_px[j]
+        one = raw(left, right, x, y, body, rig.disparity_sign, rig.focal_px, rig.baseline_m)
+        grid = [raw(left, right, x + dx * step, y + dy * step, body, rig.disparity_sign, rig.focal_px,
+                    rig.baseline_m) for dx in (-1, 0, 1) for dy in (-1, 0, 1)]
+        med = np.nanmedian(grid) if np.any(np.isfinite(grid)) else np.nan
+        t0 = raw(left, right, *arm.left_px[j], body, rig.disparity_sign, rig.focal_px, rig.baseline_m)
+        out += [one - td[j], med - td[j], t0 - td[j]]
+    rows.append(out)
+    print(f"{family:14s}{k:3d} d{draw} s one {out[0]:+.2f} med {out[1]:+.2f} at-truth {out[2]:+.2f} | "
+          f"w one {out[3]:+.2f} med {out[4]:+.2f} at-truth {out[5]:+.2f}", flush=True)
+a = np.array(rows)
+for name, off in (("shoulder", 0), ("wrist", 3)):
+    for lab, i in (("one", 0), ("med", 1), ("at-truth-kp", 2)):
+        e = a[:, off + i]; e = e[np.isfinite(e)]
+        c = e - np.median(e)
+        print(f"{name:8s} {lab:12s} n {len(e)} median {np.median(e):+.2f} |e-med| med {np.median(abs(c)):.2f} p90 {np.percentile(abs(c), 90):.2f} >2px {np.mean(abs(c) > 2):.1%}")
