@@ -17,8 +17,8 @@ from .joint_stereo import HEAD_PATCHES_M, head_disparity, head_match, joint_disp
 from .shoulder_model import head_torso_shoulder, mirrored_shoulder_px, side_log_odds, two_way
 from .values import ArmKeypoints
 
-__all__ = ["match_arm", "MATCH_GROSS_SIGMAS", "SHOULDER_MATCH_SIGMA_M", "SHOULDER_SURFACE_M", "WRIST_HAND_SHARE",
-           "OTHER_SHOULDER_SIGMA_M", "SHOULDER_SOURCES"]
+__all__ = ["match_arm", "torso_shoulder", "MATCH_GROSS_SIGMAS", "SHOULDER_MATCH_SIGMA_M", "SHOULDER_SURFACE_M",
+           "WRIST_HAND_SHARE", "OTHER_SHOULDER_SIGMA_M"]
 
 SHOULDER_MATCH_SIGMA_M = 0.05
 """One-sigma depth error (metres) of a given arm's matched shoulder, once moved back by
@@ -48,9 +48,6 @@ OTHER_SHOULDER_SIGMA_M = 0.05
 """Depth doubt (metres) added to the other shoulder's match when it votes on the torso's side (``head_torso``): on the
 far side it hides behind the torso, and its patch shows the torso's flank."""
 
-SHOULDER_SOURCES = ("patch", "head_torso")
-"""Where a given arm's shoulder depth comes from (``pose.match_disparity_shoulder``)."""
-
 MATCH_GROSS_SIGMAS = 3.0
 """A joint's match further than this many combined sigmas from the given keypoints' disparity is a wrong
 match (an elbow's patch locked on the torso behind it) and is dropped."""
@@ -76,7 +73,8 @@ def torso_shoulder(arm: ArmKeypoints, left: np.ndarray, right: np.ndarray, sign:
     if own is not None:
         log_far += side_log_odds(own, near, far)
     other_px = mirrored_shoulder_px(head_px, arm.left_px[0])
-    other = joint_disparities(left, right, other_px[None], body_px, sign, focal_px, baseline_m, patch_m=HEAD_PATCHES_M[0])
+    other = joint_disparities(left, right, other_px[None], body_px, sign, focal_px, baseline_m,
+                              patch_m=HEAD_PATCHES_M[0])
     if other.matched[0]:
         o_near, o_far = head_torso_shoulder(head, head_px, other_px, focal_px, baseline_m, principal_x_px, landmark_px)
         doubt = other.disparity_px[0] ** 2 / (focal_px * baseline_m) * OTHER_SHOULDER_SIGMA_M

@@ -154,7 +154,7 @@ def torso_shoulder_disparity(body_disparity_px: float, shoulders_apart_px: float
 
 
 def two_way(first: tuple[float, float], second: tuple[float, float], p_second: float) -> tuple[float, float]:
-    """Return the mean and sigma of a two-way mixture of (value, sigma) estimates, ``second`` with probability ``p_second``.
+    """Return the mean and sigma of a two-way mixture of (value, sigma) estimates: ``second`` with ``p_second``.
 
     Examples:
         >>> two_way((10.0, 1.0), (20.0, 1.0), 0.0)
@@ -197,7 +197,8 @@ def _along_view(across: float, slope: float) -> tuple[float, float]:
 
 def head_torso_shoulder(head: tuple[float, float], head_left_px, shoulder_left_px, focal_px: float, baseline_m: float,
                         principal_x_px: float, keypoint_sigma_px: float,
-                        width_m: tuple[float, float] = SHOULDER_WIDTH_M) -> tuple[tuple[float, float], tuple[float, float]]:
+                        width_m: tuple[float, float] = SHOULDER_WIDTH_M
+                        ) -> tuple[tuple[float, float], tuple[float, float]]:
     """Return a shoulder's (disparity, sigma) on the near side and on the far side of the torso (pixels).
 
     The head sits above the middle of the line joining the shoulders, its matched surface (``head``: the
@@ -205,8 +206,8 @@ def head_torso_shoulder(head: tuple[float, float], head_left_px, shoulder_left_p
     shoulder width along that line: its image offset from the head gives the line's share across the view
     (in perspective, at the shoulder's own depth), the rest lies along the view (the torso's turn), toward
     the camera (near) or away from it (far). Where two turns fit the offset (off the image centre) the
-    shoulder lies between them, with half their difference as doubt. The sigma holds the landmarks' ``keypoint_sigma_px``, the head
-    match's, people's shoulder widths and ``HEAD_TORSO_SIGMA_M``.
+    shoulder lies between them, with half their difference as doubt. The sigma holds the landmarks'
+    ``keypoint_sigma_px``, the head match's, people's shoulder widths and ``HEAD_TORSO_SIGMA_M``.
     """
     fb = focal_px * baseline_m
     half, half_sigma = 0.5 * width_m[0], 0.5 * width_m[1]
@@ -225,7 +226,8 @@ def head_torso_shoulder(head: tuple[float, float], head_left_px, shoulder_left_p
                           - sum(_along_view(across - across_sigma, side * ray_s))) / 2.0
         turn_sigma = math.hypot(noise, 0.5 * (hi - lo))   # the landmarks' noise, and two turns that fit
         depth = max(centre_m + side * half * turn, 0.1)
-        sigma_m = math.hypot(math.hypot(HEAD_TORSO_SIGMA_M, head_sigma_m), math.hypot(half * turn_sigma, half_sigma * turn))
+        sigma_m = math.hypot(math.hypot(HEAD_TORSO_SIGMA_M, head_sigma_m),
+                             math.hypot(half * turn_sigma, half_sigma * turn))
         out.append((sign * fb / depth, fb / depth ** 2 * sigma_m))
     return out[0], out[1]
 

@@ -1,4 +1,4 @@
-"""The pointing shoulder's depth from the head's match and the torso's turn (``pose.match_disparity_shoulder: head_torso``)."""
+"""The pointing shoulder's depth from the head's match and the torso's turn (``pose.match_disparity_shoulder``)."""
 
 from __future__ import annotations
 
@@ -37,7 +37,7 @@ def test_the_head_and_the_torsos_turn_place_the_shoulder_on_either_side(centre_m
         assert abs(mine[0] - truth) < (0.05 if centre[0] == 0.0 else mine[1])
         assert abs((far if side < 0 else near)[0] - truth) > 0.5 * fb / centre[2] ** 2 * half * math.sin(turn_rad)
         for d, sigma in (near, far):
-            assert 0.02 < sigma * centre[2] ** 2 / fb < 0.25      # metres: the model's few centimetres, up to a turn's doubt
+            assert 0.02 < sigma * centre[2] ** 2 / fb < 0.25      # metres: a few centimetres, up to a turn's doubt
 
 
 def test_a_torso_facing_the_camera_puts_the_shoulder_at_the_heads_depth_on_either_side():
