@@ -13,7 +13,7 @@ import math
 
 import numpy as np
 
-from .joint_stereo import HEAD_PATCHES_M, head_disparity, head_match, joint_disparities, limb_switches, matched_on_body
+from .joint_stereo import HEAD_PATCHES_M, head_match, head_stand_in, joint_disparities, limb_switches, matched_on_body
 from .shoulder_model import head_torso_shoulder, mirrored_shoulder_px, side_log_odds, two_way
 from .values import ArmKeypoints
 
@@ -55,18 +55,16 @@ match (an elbow's patch locked on the torso behind it) and is dropped."""
 
 def torso_shoulder(arm: ArmKeypoints, left: np.ndarray, right: np.ndarray, sign: int, focal_px: float,
                    baseline_m: float, principal_x_px: float, body_px: float, given_sigma_px: float,
-                   own: tuple[float, float] | None) -> tuple[float, float] | None:
-    """Return the pointing shoulder's disparity and sigma from the head and the torso's turn (pixels), or None.
+                   head: tuple[float, float], own: tuple[float, float] | None) -> tuple[float, float]:
+    """Return the pointing shoulder's disparity and sigma from the head and the torso's turn (pixels).
 
-    ``shoulder_model.head_torso_shoulder`` gives it on either side of the torso; which side is weighed by
-    the given disparity (``given_sigma_px``), the shoulder's own match (``own``, or None) and the other
-    shoulder's match where the head mirrors the shoulder (0.12 m patch, ``OTHER_SHOULDER_SIGMA_M`` added):
-    a two-way mixture by their likelihoods. None without the head's point or its match.
+    ``shoulder_model.head_torso_shoulder`` gives it on either side of the torso from the head's own match
+    (``head``: disparity, sigma, ``joint_stereo.head_match``); which side is weighed by the given disparity
+    (``given_sigma_px``), the shoulder's own match (``own``, or None) and the other shoulder's match where
+    the head mirrors the shoulder (0.12 m patch, ``OTHER_SHOULDER_SIGMA_M`` added): a two-way mixture by
+    their likelihoods.
     """
-    head_px = (arm.extra_left_px or {}).get("head")
-    head = head_match(head_px, left, right, body_px, sign, focal_px, baseline_m)
-    if head is None:
-        return None
+    head_px = arm.extra_left_px["head"]
     landmark_px = given_sigma_px / math.sqrt(2.0)
     near, far = head_torso_shoulder(head, head_px, arm.left_px[0], focal_px, baseline_m, principal_x_px, landmark_px)
     log_far = side_log_odds((float(arm.left_px[0, 0] - arm.right_px[0, 0]), given_sigma_px), near, far)
@@ -100,7 +98,7 @@ def match_arm(arm: ArmKeypoints, left: np.ndarray, right: np.ndarray, sign: int,
     centimetres before the joint's centre; the elbow's often holds the torso behind it), and for
     the shoulder at least ``SHOULDER_MATCH_SIGMA_M`` of depth (its patch matches the deltoid's
     surface: the match moves back by ``SHOULDER_SURFACE_M``). A shoulder whose flat patch does not
-    match takes the given head's match instead (``head_disparity``). The wrist's match holds the hand beyond it
+    match takes the given head's match instead (``head_stand_in``). The wrist's match holds the hand beyond it
     and moves back toward the shoulder's disparity by ``WRIST_HAND_SHARE`` of their difference (the shoulder's
     own match, else its given disparity). An elbow / wrist matched
     on the body behind it is set aside (``matched_on_body``; the body's depth from the head, else
@@ -132,12 +130,12 @@ def match_arm(arm: ArmKeypoints, left: np.ndarray, right: np.ndarray, sign: int,
         found.disparity_px[0] = sign * fb / (fb / abs(found.disparity_px[0]) + SHOULDER_SURFACE_M)
     match_sigma[0] = max(match_sigma[0], found.disparity_px[0] ** 2 / fb * SHOULDER_MATCH_SIGMA_M)
     matched = found.matched.copy()
-    if shoulder_from == "head_torso" and principal_px is not None:
+    head_own = head_match((arm.extra_left_px or {}).get("head"), left, right, body, sign, focal_px, baseline_m)
+    if shoulder_from == "head_torso" and principal_px is not None and head_own is not None:
         own = (float(found.disparity_px[0]), float(match_sigma[0])) if matched[0] else None
-        torso = torso_shoulder(arm, left, right, sign, focal_px, baseline_m, principal_px[0], body, given_sigma_px, own)
-        if torso is not None:
-            (found.disparity_px[0], match_sigma[0]), matched[0] = torso, True
-    head = head_disparity((arm.extra_left_px or {}).get("head"), left, right, body, sign, focal_px, baseline_m)
+        (found.disparity_px[0], match_sigma[0]), matched[0] = torso_shoulder(
+            arm, left, right, sign, focal_px, baseline_m, principal_px[0], body, given_sigma_px, head_own, own), True
+    head = None if head_own is None else head_stand_in(head_own, focal_px, baseline_m)
     if head is not None and not matched[0]:
         found.disparity_px[0], match_sigma[0], matched[0] = head[0], head[1], True
     body_ref = head[0] if head is not None else (found.disparity_px[0] if matched[0] else body)

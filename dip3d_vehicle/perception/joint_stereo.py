@@ -20,7 +20,8 @@ import numpy as np
 __all__ = ["JOINT_FLOOR_FACTOR", "match_joint_disparity", "subpixel_peak",
            "joint_disparities", "JointDisparity", "reach_disparities",
            "ARM_REACH_M", "TORSO_DEPTH_M", "in_front_of_body", "match_point", "limb_excess_sigmas", "LIMB_SIGMAS",
-           "limb_switches", "limb_spans_m", "unmatched_sigma_px", "head_disparity", "head_match", "on_background",
+           "limb_switches", "limb_spans_m", "unmatched_sigma_px", "head_disparity", "head_match", "head_stand_in",
+           "on_background",
            "patch_half_px", "BACKGROUND_SIDE_M", "BACKGROUND_SAME_PX", "HEAD_SHOULDER_SIGMA_M", "matched_on_body"]
 
 
@@ -406,10 +407,12 @@ def head_disparity(head_px, left: np.ndarray, right: np.ndarray, body_px: float,
     least ``HEAD_SHOULDER_SIGMA_M``.
     """
     found = head_match(head_px, left, right, body_px, sign, focal_px, baseline_m)
-    if found is None:
-        return None
-    d = found[0]
-    return d, max(found[1], d ** 2 / (focal_px * baseline_m) * HEAD_SHOULDER_SIGMA_M)
+    return None if found is None else head_stand_in(found, focal_px, baseline_m)
+
+
+def head_stand_in(head: tuple[float, float], focal_px: float, baseline_m: float) -> tuple[float, float]:
+    """Return the head's match (disparity, sigma, pixels) as the shoulder's: its sigma at least ``HEAD_SHOULDER_SIGMA_M``."""
+    return head[0], max(head[1], head[0] ** 2 / (focal_px * baseline_m) * HEAD_SHOULDER_SIGMA_M)
 
 
 def head_match(head_px, left: np.ndarray, right: np.ndarray, body_px: float, sign: int,

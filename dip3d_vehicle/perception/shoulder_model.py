@@ -222,9 +222,8 @@ def head_torso_shoulder(head: tuple[float, float], head_left_px, shoulder_left_p
     for side in (-1.0, 1.0):
         lo, hi = _along_view(across, side * ray_s)
         turn = 0.5 * (lo + hi)
-        noise = 0.5 * abs(sum(_along_view(across + across_sigma, side * ray_s))
-                          - sum(_along_view(across - across_sigma, side * ray_s))) / 2.0
-        turn_sigma = math.hypot(noise, 0.5 * (hi - lo))   # the landmarks' noise, and two turns that fit
+        shifted = [0.5 * sum(_along_view(across + k * across_sigma, side * ray_s)) for k in (1.0, -1.0)]
+        turn_sigma = math.hypot(0.5 * abs(shifted[0] - shifted[1]), 0.5 * (hi - lo))   # landmarks; two turns that fit
         depth = max(centre_m + side * half * turn, 0.1)
         sigma_m = math.hypot(math.hypot(HEAD_TORSO_SIGMA_M, head_sigma_m),
                              math.hypot(half * turn_sigma, half_sigma * turn))

@@ -34,7 +34,7 @@ for family, k, draw, rig, left, right, perception, arm, g in noisy_draws(n, seed
     o = (sign * fb / (fb / abs(own.disparity_px[0]) + 0.03), max(own.sigma_px[0], own.disparity_px[0] ** 2 / fb * 0.05)) if own.matched[0] else None
     r = sm.reconcile([o, t]) if o else t
     landed = torso_shoulder(g, left, right, sign, f, rig.baseline_m, rig.principal_point_px[0], body, given_sigma,
-                            (o[0], max(o[1], 1.0)) if o else None)
+                            head, (o[0], max(o[1], 1.0)) if o else None)
     zt = fb / abs(td[0])
     best = min((near, far), key=lambda c: abs(c[0] - td[0]))
     row = [zt, best[0] - td[0], t[0] - td[0], t[1], (o[0] - td[0]) if o else np.nan, r[0] - td[0], r[1],
