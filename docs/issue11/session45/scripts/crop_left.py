@@ -1,6 +1,6 @@
 import sys, tempfile
 from pathlib import Path
-import numpy as np, cv2
+import cv2
 sys.path.insert(0, "tests/perception")
 import scene_families as sf
 family, n, seed0, K = sys.argv[1], int(sys.argv[2]), int(sys.argv[3]), int(sys.argv[4])

@@ -5,29 +5,19 @@ its |error| / sigma, at the given noise (truth keypoints plus Gaussian noise in 
 """
 import sys, collections
 import numpy as np
-sys.path.insert(0, "tests/perception")
-import scene_families as sf  # noqa: E402
-import tempfile
-from pathlib import Path
+sys.path.insert(0, "docs/issue11/session45/scripts")
+from draw_loop import draws, sf  # noqa: E402
 
-n, seed0, noise, draws = int(sys.argv[1]), int(sys.argv[2]), float(sys.argv[3]), int(sys.argv[4])
-over = sys.argv[5:]
+n, seed0, noise, per = int(sys.argv[1]), int(sys.argv[2]), float(sys.argv[3]), int(sys.argv[4])
 rows = collections.defaultdict(list)
-with tempfile.TemporaryDirectory() as tmp:
-    for family in sf.FAMILIES:
-        for k, scene in enumerate(sf.scenes(Path(tmp), family, n, seed0)):
-            rig, left, right, pose, perception, arm, base = sf.prepared(scene, "default", over)
-            td = arm.left_px[:, 0] - arm.right_px[:, 0]
-            truth = scene.frame.meta["keypoints_truth"]
-            rng = np.random.default_rng(seed0 + k)
-            for d in range(draws):
-                pose.provide(sf.noisy(truth, noise, rng))
-                est = perception.estimate_arm(left, right)
-                if est is None:
-                    continue
-                e = (est.left_px[:, 0] - est.right_px[:, 0]) - td
-                sig = est.disparity_sigma_px if est.disparity_sigma_px is not None else np.full(3, np.nan)
-                rows[family].append(np.r_[e, sig, td])
+for family, k, d, scene, rig, left, right, perception, arm, base in draws(sf.FAMILIES, n, seed0, noise, per, sys.argv[5:]):
+    td = arm.left_px[:, 0] - arm.right_px[:, 0]
+    est = perception.estimate_arm(left, right)
+    if est is None:
+        continue
+    e = (est.left_px[:, 0] - est.right_px[:, 0]) - td
+    sig = est.disparity_sigma_px if est.disparity_sigma_px is not None else np.full(3, np.nan)
+    rows[family].append(np.r_[e, sig, td])
 for family, v in list(rows.items()) + [("all", sum(rows.values(), []))]:
     a = np.array(v)
     parts = []

@@ -4,7 +4,7 @@ import numpy as np, cv2
 sys.path.insert(0, "tests/perception")
 import scene_families as sf
 from dip3d_vehicle.perception.corridor import _pieces, _clip_box, _polygon_mask
-from dip3d_vehicle.perception.joint_stereo import _grey, match_point
+from dip3d_vehicle.perception.joint_stereo import _grey
 fam, n, seed, K = sys.argv[1], int(sys.argv[2]), int(sys.argv[3]), int(sys.argv[4])
 with tempfile.TemporaryDirectory() as tmp:
     for k, scene in enumerate(sf.scenes(Path(tmp), fam, n, seed)):

@@ -1,4 +1,4 @@
-import sys, tempfile, os
+import sys, tempfile
 from pathlib import Path
 import numpy as np
 sys.path.insert(0, "tests/perception")
