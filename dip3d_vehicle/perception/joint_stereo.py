@@ -21,8 +21,8 @@ __all__ = ["JOINT_FLOOR_FACTOR", "match_joint_disparity", "subpixel_peak",
            "joint_disparities", "JointDisparity", "reach_disparities",
            "ARM_REACH_M", "TORSO_DEPTH_M", "in_front_of_body", "match_point", "limb_excess_sigmas", "LIMB_SIGMAS",
            "limb_switches", "limb_spans_m", "unmatched_sigma_px", "head_disparity", "head_match", "head_stand_in",
-           "on_background",
-           "patch_half_px", "BACKGROUND_SIDE_M", "BACKGROUND_SAME_PX", "HEAD_SHOULDER_SIGMA_M", "matched_on_body"]
+           "on_background", "patch_half_px", "BACKGROUND_SIDE_M", "BACKGROUND_SAME_PX", "HEAD_SHOULDER_SIGMA_M",
+           "matched_on_body"]
 
 
 def _grey(patch: np.ndarray) -> np.ndarray:

@@ -21,3 +21,12 @@ def noisy_draws(n, seed0, noise_px, draws, families=sf.FAMILIES):
                 for draw in range(draws):
                     pose.provide(sf.noisy(truth, noise_px, rng))
                     yield family, k, draw, rig, left, right, perception, arm, pose.estimate(left, right, rig)
+
+
+def patch_match(left, right, x, y, body, sign, focal_px, baseline_m):
+    """Return one 0.06 m patch's row match at (x, y): (signed disparity, sigma), pixels, or None (as ``match_arm``'s)."""
+    from dip3d_vehicle.perception.joint_stereo import MATCH_MIN_SCORE, match_point, patch_half_px, reach_disparities
+    d_lo, d_hi = reach_disparities(body, focal_px * baseline_m)
+    got = match_point(left, right, int(round(x)), int(round(y)), d_lo, d_hi, sign, patch_half_px(body, baseline_m, 0.06),
+                      MATCH_MIN_SCORE, 1.5)
+    return None if got is None else (sign * got[0], got[1])

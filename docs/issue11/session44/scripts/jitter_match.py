@@ -5,8 +5,7 @@
 import sys
 import numpy as np
 sys.path.insert(0, "docs/issue11/session44/scripts")
-from draws import noisy_draws  # noqa: E402
-from dip3d_vehicle.perception.joint_stereo import match_point, reach_disparities, patch_half_px, MATCH_MIN_SCORE  # noqa: E402
+from draws import noisy_draws, patch_match  # noqa: E402
 
 n, seed0 = int(sys.argv[1]), int(sys.argv[2])
 step = float(sys.argv[3]) if len(sys.argv) > 3 else 2.0
@@ -14,10 +13,8 @@ step = float(sys.argv[3]) if len(sys.argv) > 3 else 2.0
 
 def raw(left, right, x, y, body, sign, f, b):
     """One patch's match disparity (signed px) or nan."""
-    d_lo, d_hi = reach_disparities(body, f * b)
-    got = match_point(left, right, int(round(x)), int(round(y)), d_lo, d_hi, sign, patch_half_px(body, b, 0.06),
-                      MATCH_MIN_SCORE, 1.5)
-    return np.nan if got is None else sign * got[0]
+    got = patch_match(left, right, x, y, body, sign, f, b)
+    return np.nan if got is None else got[0]
 
 
 rows = []

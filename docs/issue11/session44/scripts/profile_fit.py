@@ -5,8 +5,7 @@
 import sys
 import numpy as np
 sys.path.insert(0, "docs/issue11/session44/scripts")
-from draws import noisy_draws  # noqa: E402
-from dip3d_vehicle.perception.joint_stereo import match_point, reach_disparities, patch_half_px, MATCH_MIN_SCORE  # noqa: E402
+from draws import noisy_draws, patch_match  # noqa: E402
 
 n, seed0 = int(sys.argv[1]), int(sys.argv[2])
 steps = int(sys.argv[3]) if len(sys.argv) > 3 else 6
@@ -14,19 +13,17 @@ steps = int(sys.argv[3]) if len(sys.argv) > 3 else 6
 
 def profile(left, right, xy, body, sign, f, b, steps):
     """Return samples (weights on s, e, w), disparity, sigma along the arm."""
-    d_lo, d_hi = reach_disparities(body, f * b)
-    half = patch_half_px(body, b, 0.06)
     rows = []
     ts = (np.arange(steps) + 0.5) / steps
     for seg in (0, 1):
         a, c = xy[seg], xy[seg + 1]
         for t in ts:
             p = (1 - t) * a + t * c
-            got = match_point(left, right, int(round(p[0])), int(round(p[1])), d_lo, d_hi, sign, half, MATCH_MIN_SCORE, 1.5)
+            got = patch_match(left, right, p[0], p[1], body, sign, f, b)
             if got is None:
                 continue
             wgt = np.zeros(3); wgt[seg] = 1 - t; wgt[seg + 1] = t
-            rows.append((wgt, sign * got[0], got[1]))
+            rows.append((wgt, got[0], got[1]))
     return rows
 
 
