@@ -28,7 +28,7 @@ import numpy as np
 
 from dip3d_vehicle.perception.calibration import StereoRig
 from dip3d_vehicle.perception.corridor import ZOOM_MIN_DEPTH_M
-from dip3d_vehicle.perception.selection import group_objects
+from dip3d_vehicle.perception.grouping import group_objects
 from dip3d_vehicle.perception.values import Candidates, ObjectCandidate
 from dip3d_vehicle.servo.command import VelocityCommand
 

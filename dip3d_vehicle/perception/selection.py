@@ -37,9 +37,9 @@ from .blobs import Blobs
 from .calibration import StereoRig
 from .candidates import HAND_LENGTH_M
 from .evidence import arm_evidence
+from .grouping import MATCH_SIGMA_PX, extent_m, group_objects
 from .joint_stereo import limb_spans_m
 from .pointing_fit import SHAPE_POINTS, ArmModel, _PointingFit, _rays, object_shape
-from .triangulation import normalize_q, triangulate
 from .values import Arm3D, ArmKeypoints, Candidates, ObjectCandidate, Selection
 
 __all__ = ["PointingSelector", "PaperSelector", "DefaultSelector", "OpenSet", "image_gate", "group_objects", "make_selector",
@@ -53,9 +53,6 @@ standard deviation is 0.25 rad, however noisy the stereo depths of the joints.""
 UnrecognisedSource = Callable[[list, list, np.ndarray], Blobs]
 """Called with the objects' feature pixels and 3D points (lists of arrays) and the arm's joints (3, 3), metres:
 returns the unrecognised things along the arm that none of them explains (``Perception``'s blob finder)."""
-
-MATCH_SIGMA_PX = 0.3
-"""Assumed disparity error of a matched feature, pixels (SIFT on Middlebury: median error 0.1-0.3 px)."""
 
 
 class PointingSelector(ABC):
@@ -105,134 +102,6 @@ class PaperSelector(PointingSelector):
         return Selection(int(order[0]), objects, dist, 1.0, margin, self.method, False)
 
 
-def group_objects(candidates: Candidates, xyz_m: np.ndarray, rig: StereoRig, radius_px: float,
-                  radius_m: float, min_features: int, object_radius_m: float = 0.15) -> list[ObjectCandidate]:
-    """Group matched features into objects: chains of neighbours, then fragments of one object.
-
-    Stage 1 links two features within ``radius_px`` in the left image whose depths differ by less
-    than max(radius_m, 3 sigma); stage 2 merges the resulting fragments whose robust 3D centres
-    are within ``object_radius_m`` and pass the same depth test (a sparse, distant placard often
-    falls apart into pieces; two placards side by side at different depths must not be chained).
-    Objects with fewer than ``min_features`` members are dropped. An object's centre is the median
-    disparity triangulated at the median left-image position (robust to stray matches).
-    """
-    n = len(candidates)
-    if n == 0:
-        return []
-    z = xyz_m[:, 2]
-    sig = rig.depth_sigma_m(z, MATCH_SIGMA_PX)
-    pairs = cKDTree(candidates.left_px).query_pairs(radius_px, output_type="ndarray") if n > 1 else np.zeros((0, 2), int)
-    if len(pairs):
-        i, j = pairs[:, 0], pairs[:, 1]
-        pairs = pairs[_depths_agree(z[i], z[j], sig[i], sig[j], radius_m)]
-    labels = _components(n, pairs)
-    Q = normalize_q(rig.Q, rig.disparity_sign)
-    groups = _groups(labels)
-    centres = _centres(candidates, Q, groups)[1]
-    ok = np.all(np.isfinite(centres), axis=1)
-    if ok.sum() > 1:
-        idx = np.nonzero(ok)[0]
-        close = cKDTree(centres[idx]).query_pairs(object_radius_m, output_type="ndarray")
-        if len(close):
-            za, zb = centres[idx[close[:, 0]], 2], centres[idx[close[:, 1]], 2]
-            close = close[_depths_agree(za, zb, *rig.depth_sigma_m(np.stack([za, zb]), MATCH_SIGMA_PX), radius_m)]
-        merged = _components(len(idx), close)
-        groups = [np.concatenate([groups[idx[k]] for k in ks]) for ks in _groups(merged)]
-    groups = _join_small_fragments(groups, xyz_m, sig, radius_m, min_features, object_radius_m)
-    groups = [g for g in groups if len(g) >= min_features]
-    out = []
-    for members, px, centre in zip(groups, *_centres(candidates, Q, groups)):
-        if not np.all(np.isfinite(centre)) or centre[2] <= 0:
-            continue
-        sigma = float(rig.depth_sigma_m(centre[2], max(1.25 * MATCH_SIGMA_PX / math.sqrt(len(members)), 0.1)))
-        out.append(ObjectCandidate(px, centre, sigma, tuple(int(m) for m in members)))
-    return out
-
-
-def _depths_agree(za: np.ndarray, zb: np.ndarray, sigma_a: np.ndarray, sigma_b: np.ndarray,
-                  radius_m: float) -> np.ndarray:
-    """Return whether two depths (metres) may be one surface: apart by at most max(radius_m, 3 combined sigmas)."""
-    return np.abs(za - zb) <= np.maximum(radius_m, 3.0 * np.hypot(sigma_a, sigma_b))
-
-
-def _join_small_fragments(groups: list[np.ndarray], xyz_m: np.ndarray, sigma_m: np.ndarray, radius_m: float,
-                          min_features: int, object_radius_m: float) -> list[np.ndarray]:
-    """Return ``groups`` with the fragments too small to be objects joined where their features nearly touch.
-
-    A far, sparse placard (0.25 m at 4.7 m, 53 px) often yields a handful of features in pairs more than
-    ``radius_px`` apart, whose two-feature centres lie 0.15-0.2 m apart: none is an object, and "nothing
-    detected" then wins on the placard's own spots (far seed 500 scene 1, far_diver scene 6). Fragments
-    with fewer than ``min_features`` members are linked when two of their features lie within
-    ``object_radius_m`` of each other ACROSS the line of sight (the points' x, y at their depths) and
-    their depths agree as in stage 1; objects that already stand alone are left as they are (a merge
-    of two placards close along the line of sight is what the centres' test guards against).
-    """
-    small = [k for k, g in enumerate(groups) if len(g) < min_features]
-    if len(small) < 2:
-        return groups
-    members = np.concatenate([groups[k] for k in small])
-    owner = np.repeat(np.arange(len(small)), [len(groups[k]) for k in small])
-    pts = xyz_m[members]
-    finite = np.flatnonzero(np.all(np.isfinite(pts), axis=1))
-    pairs = cKDTree(pts[finite, :2]).query_pairs(object_radius_m, output_type="ndarray")
-    if not len(pairs):
-        return groups
-    i, j = finite[pairs[:, 0]], finite[pairs[:, 1]]
-    keep = (_depths_agree(pts[i, 2], pts[j, 2], sigma_m[members[i]], sigma_m[members[j]], radius_m)
-            & (owner[i] != owner[j]))
-    joined = _components(len(small), np.c_[owner[i], owner[j]][keep])
-    big = [g for k, g in enumerate(groups) if len(g) >= min_features]
-    return big + [np.sort(np.concatenate([groups[small[k]] for k in ks])) for ks in _groups(joined)]
-
-
-def _groups(labels: np.ndarray) -> list[np.ndarray]:
-    """Return the (ascending) indices of each label 0..max, as ``np.nonzero(labels == k)[0]`` for every k."""
-    order = np.argsort(labels, kind="stable")
-    return np.split(order, np.cumsum(np.bincount(labels))[:-1])
-
-
-def _components(n: int, pairs: np.ndarray) -> np.ndarray:
-    """Return connected-component labels of n nodes linked by (k, 2) index pairs.
-
-    Labels are numbered by each component's lowest node (as scipy's ``connected_components``):
-    every node takes the lowest label among its links, with pointer jumping, until nothing changes.
-    """
-    labels = np.arange(n)
-    if len(pairs) == 0:
-        return labels
-    i, j = pairs[:, 0], pairs[:, 1]
-    while True:
-        low = np.minimum(labels[i], labels[j])
-        new = labels.copy()
-        np.minimum.at(new, i, low)
-        np.minimum.at(new, j, low)
-        new = new[new]
-        if np.array_equal(new, labels):
-            return np.unique(labels, return_inverse=True)[1]
-        labels = new
-
-
-def _centres(candidates: Candidates, Q: np.ndarray, groups: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
-    """Return every group's (median left px, centre triangulated at the median disparity), pixels and metres."""
-    if not groups:
-        return np.empty((0, 2)), np.zeros((0, 3))
-    members = np.concatenate(groups)
-    label = np.repeat(np.arange(len(groups)), [len(g) for g in groups])
-    values = np.c_[candidates.left_px[members], candidates.disparity_px[members]]
-    med = np.column_stack([_group_medians(label, values[:, c], len(groups)) for c in range(3)])
-    return med[:, :2], triangulate(Q, med[:, :2], med[:, 2])
-
-
-def _group_medians(label: np.ndarray, values: np.ndarray, count: int) -> np.ndarray:
-    """Return the median of ``values`` per group label 0..count-1 (as ``np.median``: mean of the middle two)."""
-    order = np.lexsort((values, label))
-    sizes = np.bincount(label, minlength=count)
-    start = np.r_[0, np.cumsum(sizes)[:-1]]
-    ranked = values[order]
-    low, high = ranked[start + (sizes - 1) // 2], ranked[start + sizes // 2]
-    return (low + high) / 2.0
-
-
 @dataclass(frozen=True)
 class OpenSet:
     """The "nothing detected there" hypothesis of the default selector.
@@ -252,7 +121,8 @@ class OpenSet:
             the best object is returned flagged ambiguous. Per-frame status only: the
             probabilities, which the fused decision over the point uses, do not depend on it.
         same_target_gap_m: objects whose points come this close to the chosen one's are parts of
-            the same target (a placard split into fragments): the confidence is their summed probability.
+            the same target (a placard split into fragments) while together they fit in one target
+            (``DefaultSelector.target_max_extent_m``): the confidence is their summed probability.
     """
 
     none_prior: float = 0.25
@@ -346,8 +216,9 @@ class DefaultSelector(PointingSelector):
     def __init__(self, model: ArmModel = ArmModel(), group_radius_px: float = 20.0, group_radius_m: float = 0.05,
                  min_object_features: int = 3, min_confidence: float = 0.6, object_radius_m: float = 0.15,
                  open_set: OpenSet = OpenSet(), evidence: str = "laplace", evidence_samples: int = 2048,
-                 unrecognised_weight: float = 1.0) -> None:
+                 unrecognised_weight: float = 1.0, target_max_extent_m: float = math.inf) -> None:
         self.model, self.open_set = model, open_set
+        self.target_max_extent_m = target_max_extent_m
         self.unrecognised_weight = unrecognised_weight
         self.evidence, self.evidence_samples = evidence, evidence_samples
         self.object_radius_m = object_radius_m
@@ -366,7 +237,7 @@ class DefaultSelector(PointingSelector):
         detected"'s.
         """
         objects = group_objects(candidates, xyz_m, rig, self.group_radius_px, self.group_radius_m,
-                                self.min_object_features, self.object_radius_m)
+                                self.min_object_features, self.object_radius_m, self.target_max_extent_m)
         if not objects:
             return Selection(None, (), np.zeros(0), 0.0, math.inf, self.method, True, 0.0,
                              "no object with enough matched features")
@@ -405,8 +276,9 @@ class DefaultSelector(PointingSelector):
         # "nothing detected" is the answer when it is the confident winner (or no object is allowed);
         # when it merely leads, the best object is returned flagged ambiguous: no decision either way
         # fragments of one object (a placard split by its own texture, or its edge) are one target:
-        # the best object's probability is that of every object whose points touch it
-        mass = float(post[_touching(objects, xyz_m, best, self.open_set.same_target_gap_m)].sum())
+        # the best object's probability is that of every object whose points touch it, within one target's extent
+        mass = float(post[_touching(objects, candidates, xyz_m, best, self.open_set.same_target_gap_m,
+                                    self.target_max_extent_m, rig.focal_px, post)].sum())
         if not np.isfinite(log_odds[best]) or (p_none >= mass and p_none >= self.open_set.none_min_probability):
             seen = f", {len(spots)} unrecognised thing(s) along it" if len(spots) else ""
             why = (f"the arm points at nothing detected (P {p_none:.2f}{seen}); best object P {mass:.2f}"
@@ -491,14 +363,27 @@ class DefaultSelector(PointingSelector):
         return o.log_prior(n_objects or len(objects)) + density - (costs - arm_cost) / 2.0
 
 
-def _touching(objects: list[ObjectCandidate], xyz_m: np.ndarray, best: int, gap_m: float) -> np.ndarray:
-    """Return a bool per object: do its points come within ``gap_m`` (metres) of object ``best``'s?"""
+def _touching(objects: list[ObjectCandidate], candidates: Candidates, xyz_m: np.ndarray, best: int, gap_m: float,
+              max_extent_m: float, focal_px: float, posterior: np.ndarray) -> np.ndarray:
+    """Return a bool per object: is it a fragment of object ``best``'s target?
+
+    A fragment's points come within ``gap_m`` (metres) of the best's, and the best with its fragments
+    still fits in one target (``max_extent_m`` across the line of sight, ``grouping.extent_m``): two
+    placards side by side are not one. Fragments are taken most probable first.
+    """
     tree = cKDTree(xyz_m[list(objects[best].members)])
     out = np.zeros(len(objects), bool)
-    for k, obj in enumerate(objects):
-        pts = xyz_m[list(obj.members)]
+    out[best] = True
+    members = list(objects[best].members)
+    for k in np.argsort(-posterior, kind="stable"):
+        pts = xyz_m[list(objects[k].members)]
         pts = pts[np.all(np.isfinite(pts), axis=1)]
-        out[k] = k == best or (len(pts) > 0 and float(tree.query(pts, k=1)[0].min()) <= gap_m)
+        if out[k] or len(pts) == 0 or float(tree.query(pts, k=1)[0].min()) > gap_m:
+            continue
+        union = members + list(objects[k].members)
+        if extent_m(candidates.left_px[union], float(np.median(xyz_m[union, 2])), focal_px) <= max_extent_m:
+            out[k] = True
+            members = union
     return out
 
 
@@ -524,4 +409,5 @@ def make_selector(params: Mapping) -> PointingSelector:
                            params["selection.group_radius_m"], params["selection.min_object_features"],
                            params["selection.min_confidence"], params["selection.object_radius_m"],
                            open_set_from_params(params), params["selection.evidence"],
-                           params["selection.evidence_samples"], params["selection.unrecognised_weight"])
+                           params["selection.evidence_samples"], params["selection.unrecognised_weight"],
+                           params["selection.target_max_extent_m"])

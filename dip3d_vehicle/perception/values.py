@@ -161,7 +161,8 @@ class Selection:
             higher is better for ``default`` (posterior probability).
         confidence: in [0, 1]; posterior of the chosen object (1.0 for ``paper``, which has none);
             for ``default`` the absolute probability of the chosen object and its fragments (objects
-            touching it, ``selection.same_target_gap_m``), or of "nothing detected" when that won.
+            touching it within one target's extent, ``selection.same_target_gap_m``), or of "nothing
+            detected" when that won.
         ambiguity_margin: best minus second-best in the selector's own units (inf if one object).
         method: "paper" or "default".
         ambiguous: True when the confidence is under the configured minimum.

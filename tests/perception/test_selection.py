@@ -101,7 +101,7 @@ def test_default_groups_features_into_objects_with_robust_centre():
     pts = np.vstack([cluster(a, 20, seed=3), cluster(b, 20, seed=4)])
     cands, xyz = candidates_of(pts)
     xyz[0, 2] += 0.8  # a gross depth error on one feature
-    from dip3d_vehicle.perception.selection import group_objects
+    from dip3d_vehicle.perception.grouping import group_objects
     objs = group_objects(cands, xyz, RIG, 60.0, 0.05, 3)
     assert len(objs) == 2
     centres = sorted(o.xyz_m[2] for o in objs)
@@ -116,7 +116,7 @@ def test_a_far_sparse_placard_in_pairs_of_features_is_one_object_two_placards_al
     Joined, the six are one object. Two objects that stand alone are never joined by it, and a pair at
     the same image place 0.4 m farther along the line of sight (beyond the depth test) stays apart.
     """
-    from dip3d_vehicle.perception.selection import group_objects
+    from dip3d_vehicle.perception.grouping import group_objects
     z = 4.7
     pairs = np.array([[-0.12, -0.02], [-0.12, 0.03], [0.0, -0.10], [0.04, -0.10], [0.05, 0.04], [0.09, 0.06]])
     pts = np.c_[pairs, np.full(len(pairs), z)]
@@ -132,7 +132,7 @@ def test_a_far_sparse_placard_in_pairs_of_features_is_one_object_two_placards_al
 
 def test_group_medians_equal_numpy_median():
     """The vectorised per-group median is numpy's (mean of the two middle values), ties and singletons included."""
-    from dip3d_vehicle.perception.selection import _group_medians
+    from dip3d_vehicle.perception.grouping import _group_medians
     rng = np.random.default_rng(7)
     for trial in range(300):
         n = int(rng.integers(1, 40))
@@ -147,7 +147,7 @@ def test_group_medians_equal_numpy_median():
 
 def test_groups_list_each_labels_indices_in_order():
     """The grouping by label is the per-label ``np.nonzero`` it replaced: same indices, same order."""
-    from dip3d_vehicle.perception.selection import _groups
+    from dip3d_vehicle.perception.grouping import _groups
     rng = np.random.default_rng(11)
     for _ in range(300):
         n = int(rng.integers(1, 60))
@@ -358,7 +358,7 @@ def test_feature_chains_are_labelled_like_scipy_connected_components():
     from scipy.sparse import coo_matrix
     from scipy.sparse.csgraph import connected_components
 
-    from dip3d_vehicle.perception.selection import _components
+    from dip3d_vehicle.perception.grouping import _components
 
     rng = np.random.default_rng(3)
     for n, k in ((1, 0), (5, 0), (40, 25), (300, 400), (300, 1200)):

@@ -1,0 +1,236 @@
+"""Matched features into objects: chains of neighbours, split where two objects touch, then fragments joined.
+
+Stage 1 chains features that are neighbours in the left image with agreeing depths. A chain wider
+than any target (``max_extent_m`` across the line of sight) that a few links hold together is two
+objects side by side (two placards whose edges come within a neighbour's reach, a stray feature
+bridging the water between them): it is cut there (``split_chain``). Stage 2 merges fragments of one
+object whose centres are close; stage 3 joins fragments too small to be objects alone.
+"""
+
+from __future__ import annotations
+
+import math
+
+import cv2
+import numpy as np
+from scipy.spatial import cKDTree
+
+from .calibration import StereoRig
+from .triangulation import normalize_q, triangulate
+from .values import Candidates, ObjectCandidate
+
+__all__ = ["group_objects", "split_chain", "extent_m", "MATCH_SIGMA_PX"]
+
+MATCH_SIGMA_PX = 0.3
+"""Assumed disparity error of a matched feature, pixels (SIFT on Middlebury: median error 0.1-0.3 px)."""
+
+SPLIT_MIN_PART = 10
+"""The fewest features on each side of a cut of one chain into two objects."""
+
+SPLIT_MAX_CONDUCTANCE = 0.03
+"""A chain is cut only where the cut's links over the smaller side's links (its conductance) are below this:
+one placard's features hold together at ~0.1 or more across any cut (issue 11 session 45)."""
+
+SPLIT_COHESION_RATIO = 3.0
+"""A cut is kept only when each side's own weakest cut is this many times stronger than it."""
+
+SPLIT_MAX_FEATURES = 400
+"""Chains of more features than this are not looked at for a cut (the eigenvector's cost grows with the cube)."""
+
+
+def group_objects(candidates: Candidates, xyz_m: np.ndarray, rig: StereoRig, radius_px: float,
+                  radius_m: float, min_features: int, object_radius_m: float = 0.15,
+                  max_extent_m: float = math.inf) -> list[ObjectCandidate]:
+    """Group matched features into objects: chains of neighbours, then fragments of one object.
+
+    Stage 1 links two features within ``radius_px`` in the left image whose depths differ by less
+    than max(radius_m, 3 sigma); a chain wider than ``max_extent_m`` (metres across the line of
+    sight) is cut where a few links hold two parts together (``split_chain``); stage 2 merges the
+    resulting fragments whose robust 3D centres are within ``object_radius_m`` and pass the same
+    depth test (a sparse, distant placard often falls apart into pieces; two placards side by side
+    at different depths must not be chained). Objects with fewer than ``min_features`` members are
+    dropped. An object's centre is the median disparity triangulated at the median left-image
+    position (robust to stray matches).
+    """
+    n = len(candidates)
+    if n == 0:
+        return []
+    z = xyz_m[:, 2]
+    sig = rig.depth_sigma_m(z, MATCH_SIGMA_PX)
+    pairs = cKDTree(candidates.left_px).query_pairs(radius_px, output_type="ndarray") if n > 1 else np.zeros((0, 2), int)
+    if len(pairs):
+        i, j = pairs[:, 0], pairs[:, 1]
+        pairs = pairs[_depths_agree(z[i], z[j], sig[i], sig[j], radius_m)]
+    labels = _components(n, pairs)
+    Q = normalize_q(rig.Q, rig.disparity_sign)
+    groups = [part for members in _groups(labels)
+              for part in split_chain(members, pairs, candidates.left_px, z, rig.focal_px, max_extent_m)]
+    centres = _centres(candidates, Q, groups)[1]
+    ok = np.all(np.isfinite(centres), axis=1)
+    if ok.sum() > 1:
+        idx = np.nonzero(ok)[0]
+        close = cKDTree(centres[idx]).query_pairs(object_radius_m, output_type="ndarray")
+        if len(close):
+            za, zb = centres[idx[close[:, 0]], 2], centres[idx[close[:, 1]], 2]
+            close = close[_depths_agree(za, zb, *rig.depth_sigma_m(np.stack([za, zb]), MATCH_SIGMA_PX), radius_m)]
+        merged = _components(len(idx), close)
+        groups = [np.concatenate([groups[idx[k]] for k in ks]) for ks in _groups(merged)]
+    groups = _join_small_fragments(groups, xyz_m, sig, radius_m, min_features, object_radius_m)
+    groups = [g for g in groups if len(g) >= min_features]
+    out = []
+    for members, px, centre in zip(groups, *_centres(candidates, Q, groups)):
+        if not np.all(np.isfinite(centre)) or centre[2] <= 0:
+            continue
+        sigma = float(rig.depth_sigma_m(centre[2], max(1.25 * MATCH_SIGMA_PX / math.sqrt(len(members)), 0.1)))
+        out.append(ObjectCandidate(px, centre, sigma, tuple(int(m) for m in members)))
+    return out
+
+
+def extent_m(left_px: np.ndarray, depth_m: float, focal_px: float) -> float:
+    """Return the widest span of features (rectified left px) across the line of sight at ``depth_m``, metres."""
+    if len(left_px) < 2:
+        return 0.0
+    hull = cv2.convexHull(np.asarray(left_px, np.float32)).reshape(-1, 2).astype(float)
+    return float(np.max(np.linalg.norm(hull[:, None] - hull[None], axis=2))) * depth_m / focal_px
+
+
+def split_chain(members: np.ndarray, pairs: np.ndarray, left_px: np.ndarray, depth_m: np.ndarray, focal_px: float,
+                max_extent_m: float, depth: int = 2) -> list[np.ndarray]:
+    """Return a chain of features (indices, linked by ``pairs``) as the objects it holds: itself, or its two sides.
+
+    A chain no wider than ``max_extent_m`` (metres across the line of sight, at its median depth) is one
+    object. A wider one is cut at the spectral cut of least conductance when that cut is weak (a few
+    links: two placards side by side, or a stray feature between them) and each side holds together
+    far better than the cut; each side is looked at again, ``depth`` times at most.
+    """
+    if depth <= 0 or not extent_m(left_px[members], float(np.median(depth_m[members])), focal_px) > max_extent_m:
+        return [members]
+    phi, first, second = _least_cut(members, pairs)
+    if not phi < SPLIT_MAX_CONDUCTANCE:
+        return [members]
+    if not min(_least_cut(first, pairs)[0], _least_cut(second, pairs)[0]) >= SPLIT_COHESION_RATIO * phi:
+        return [members]
+    return [part for side in (first, second)
+            for part in split_chain(side, pairs, left_px, depth_m, focal_px, max_extent_m, depth - 1)]
+
+
+def _least_cut(members: np.ndarray, pairs: np.ndarray) -> tuple[float, np.ndarray, np.ndarray]:
+    """Return the conductance of a chain's spectral cut of least conductance and its two sides (inf: no cut).
+
+    The features are ordered by the Fiedler vector of the links' normalised Laplacian; every split of
+    that order leaving at least ``SPLIT_MIN_PART`` features a side is scored by its conductance (links
+    cut over the smaller side's link ends).
+    """
+    size = len(members)
+    none = (math.inf, members, members[:0])
+    if size < 2 * SPLIT_MIN_PART or size > SPLIT_MAX_FEATURES or len(pairs) == 0:
+        return none
+    index = np.full(int(max(pairs.max(), members.max())) + 1, -1)
+    index[members] = np.arange(size)
+    inside = pairs[(index[pairs[:, 0]] >= 0) & (index[pairs[:, 1]] >= 0)]
+    if len(inside) == 0:
+        return none
+    i, j = index[inside[:, 0]], index[inside[:, 1]]
+    adjacency = np.zeros((size, size))
+    adjacency[i, j] = adjacency[j, i] = 1.0
+    degree = adjacency.sum(axis=1)
+    scale = 1.0 / np.sqrt(np.maximum(degree, 1e-12))
+    fiedler = np.linalg.eigh(np.eye(size) - scale[:, None] * adjacency * scale[None, :])[1][:, 1] * scale
+    order = np.argsort(fiedler, kind="stable")
+    rank = np.empty(size, int)
+    rank[order] = np.arange(size)
+    lo, hi = np.minimum(rank[i], rank[j]), np.maximum(rank[i], rank[j])
+    change = np.zeros(size + 1)
+    np.add.at(change, lo + 1, 1.0)
+    np.add.at(change, hi + 1, -1.0)
+    cut = np.cumsum(change)[1:size]
+    volume = np.cumsum(degree[order])[:-1]
+    k = np.arange(1, size)
+    phi = np.where((k >= SPLIT_MIN_PART) & (size - k >= SPLIT_MIN_PART),
+                   cut / np.maximum(np.minimum(volume, float(degree.sum()) - volume), 1e-12), np.inf)
+    best = int(np.argmin(phi))
+    return float(phi[best]), np.sort(members[order[:best + 1]]), np.sort(members[order[best + 1:]])
+
+
+def _depths_agree(za: np.ndarray, zb: np.ndarray, sigma_a: np.ndarray, sigma_b: np.ndarray,
+                  radius_m: float) -> np.ndarray:
+    """Return whether two depths (metres) may be one surface: apart by at most max(radius_m, 3 combined sigmas)."""
+    return np.abs(za - zb) <= np.maximum(radius_m, 3.0 * np.hypot(sigma_a, sigma_b))
+
+
+def _join_small_fragments(groups: list[np.ndarray], xyz_m: np.ndarray, sigma_m: np.ndarray, radius_m: float,
+                          min_features: int, object_radius_m: float) -> list[np.ndarray]:
+    """Return ``groups`` with the fragments too small to be objects joined where their features nearly touch.
+
+    A far, sparse placard (0.25 m at 4.7 m, 53 px) often yields a handful of features in pairs more than
+    ``radius_px`` apart, whose two-feature centres lie 0.15-0.2 m apart: none is an object, and "nothing
+    detected" then wins on the placard's own spots (far seed 500 scene 1, far_diver scene 6). Fragments
+    with fewer than ``min_features`` members are linked when two of their features lie within
+    ``object_radius_m`` of each other ACROSS the line of sight (the points' x, y at their depths) and
+    their depths agree as in stage 1; objects that already stand alone are left as they are (a merge
+    of two placards close along the line of sight is what the centres' test guards against).
+    """
+    small = [k for k, g in enumerate(groups) if len(g) < min_features]
+    if len(small) < 2:
+        return groups
+    members = np.concatenate([groups[k] for k in small])
+    owner = np.repeat(np.arange(len(small)), [len(groups[k]) for k in small])
+    pts = xyz_m[members]
+    finite = np.flatnonzero(np.all(np.isfinite(pts), axis=1))
+    pairs = cKDTree(pts[finite, :2]).query_pairs(object_radius_m, output_type="ndarray")
+    if not len(pairs):
+        return groups
+    i, j = finite[pairs[:, 0]], finite[pairs[:, 1]]
+    keep = (_depths_agree(pts[i, 2], pts[j, 2], sigma_m[members[i]], sigma_m[members[j]], radius_m)
+            & (owner[i] != owner[j]))
+    joined = _components(len(small), np.c_[owner[i], owner[j]][keep])
+    big = [g for k, g in enumerate(groups) if len(g) >= min_features]
+    return big + [np.sort(np.concatenate([groups[small[k]] for k in ks])) for ks in _groups(joined)]
+
+
+def _groups(labels: np.ndarray) -> list[np.ndarray]:
+    """Return the (ascending) indices of each label 0..max, as ``np.nonzero(labels == k)[0]`` for every k."""
+    order = np.argsort(labels, kind="stable")
+    return np.split(order, np.cumsum(np.bincount(labels))[:-1])
+
+
+def _components(n: int, pairs: np.ndarray) -> np.ndarray:
+    """Return connected-component labels of n nodes linked by (k, 2) index pairs.
+
+    Labels are numbered by each component's lowest node (as scipy's ``connected_components``):
+    every node takes the lowest label among its links, with pointer jumping, until nothing changes.
+    """
+    labels = np.arange(n)
+    if len(pairs) == 0:
+        return labels
+    i, j = pairs[:, 0], pairs[:, 1]
+    while True:
+        low = np.minimum(labels[i], labels[j])
+        new = labels.copy()
+        np.minimum.at(new, i, low)
+        np.minimum.at(new, j, low)
+        new = new[new]
+        if np.array_equal(new, labels):
+            return np.unique(labels, return_inverse=True)[1]
+        labels = new
+
+
+def _centres(candidates: Candidates, Q: np.ndarray, groups: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
+    """Return every group's (median left px, centre triangulated at the median disparity), pixels and metres."""
+    if not groups:
+        return np.empty((0, 2)), np.zeros((0, 3))
+    members = np.concatenate(groups)
+    label = np.repeat(np.arange(len(groups)), [len(g) for g in groups])
+    values = np.c_[candidates.left_px[members], candidates.disparity_px[members]]
+    med = np.column_stack([_group_medians(label, values[:, c], len(groups)) for c in range(3)])
+    return med[:, :2], triangulate(Q, med[:, :2], med[:, 2])
+
+
+def _group_medians(label: np.ndarray, values: np.ndarray, count: int) -> np.ndarray:
+    """Return the median of ``values`` per group label 0..count-1 (as ``np.median``: mean of the middle two)."""
+    order = np.lexsort((values, label))
+    sizes = np.bincount(label, minlength=count)
+    start = np.r_[0, np.cumsum(sizes)[:-1]]
+    ranked = values[order]
+    low, high = ranked[start + (sizes - 1) // 2], ranked[start + sizes // 2]
+    return (low + high) / 2.0

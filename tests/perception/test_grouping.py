@@ -1,0 +1,74 @@
+"""Grouping features into objects: a chain wider than any target is cut where two placards touch."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from dip3d_vehicle.perception.grouping import extent_m, group_objects
+
+from test_selection import RIG, _arm_right, _select, candidates_of
+
+Z_M = 2.6
+
+
+def placard(centre_x_m: float, side_m: float = 0.3, y_m: float = 0.0, step_m: float = 0.03,
+            seed: int = 0) -> np.ndarray:
+    """Return features on a square placard facing the camera at ``Z_M`` (a jittered grid), metres."""
+    rng = np.random.default_rng(seed)
+    ticks = np.arange(-side_m / 2, side_m / 2 + 1e-9, step_m)
+    grid = np.array([(x, y) for x in ticks for y in ticks]) + rng.normal(0.0, 0.003, (len(ticks) ** 2, 2))
+    return np.c_[grid + [centre_x_m, y_m], np.full(len(grid), Z_M)]
+
+
+def two_placards_bridged() -> tuple[np.ndarray, np.ndarray]:
+    """Return two 0.3 m placards 0.08 m apart (31 px at 2.6 m) and one stray feature between them, and labels."""
+    a, b = placard(-0.19, seed=1), placard(0.19, seed=2)
+    bridge = np.array([[0.0, 0.0, Z_M]])  # 15 px from each placard's edge: chains both within 20 px
+    return np.vstack([a, b, bridge]), np.r_[np.zeros(len(a), int), np.ones(len(b), int), [-1]]
+
+
+def test_two_placards_chained_by_a_stray_feature_are_cut_apart_when_wider_than_any_target():
+    """Wider than 0.6 m and held by a few links: two objects, one on each placard (line_of_sight seed 2900 scene 19)."""
+    pts, labels = two_placards_bridged()
+    cands, xyz = candidates_of(pts)
+    whole = group_objects(cands, xyz, RIG, 20.0, 0.05, 3)
+    assert len(whole) == 1
+    assert extent_m(cands.left_px, Z_M, RIG.focal_px) == pytest.approx(0.74, abs=0.03)
+    objs = group_objects(cands, xyz, RIG, 20.0, 0.05, 3, max_extent_m=0.6)
+    assert len(objs) == 2
+    for obj in objs:
+        own = labels[list(obj.members)]
+        assert len(set(own[own >= 0])) == 1 and np.sum(own >= 0) >= len(own) - 1
+        assert abs(abs(obj.xyz_m[0]) - 0.19) < 0.02
+
+
+def test_one_wide_placard_is_never_cut_nor_a_narrow_chain_looked_at():
+    """A 0.7 m placard holds together across every cut; two placards within the extent are left as one chain."""
+    wide = placard(0.0, side_m=0.7, seed=3)
+    cands, xyz = candidates_of(wide)
+    objs = group_objects(cands, xyz, RIG, 20.0, 0.05, 3, max_extent_m=0.6)
+    assert len(objs) == 1 and len(objs[0].members) == len(wide)
+    pts, _ = two_placards_bridged()
+    cands, xyz = candidates_of(pts)
+    assert len(group_objects(cands, xyz, RIG, 20.0, 0.05, 3, max_extent_m=0.8)) == 1
+
+
+def test_two_placards_side_by_side_are_never_summed_as_one_target():
+    """The arm points between two placards 0.08 m apart: each object keeps its own probability (not one target).
+
+    Fragments of one placard are summed (``test_fragments_of_one_placard_count_as_one_target``); two placards
+    are not, whether stage 1 chained them (then cut) or not: together they are wider than any target.
+    """
+    arm, u = _arm_right()
+    centre = np.array([-0.4, 0.0, 2.5]) + 2.2 * u
+    side = np.array([-u[1], u[0], 0.0])  # across the arm in the image plane
+    rng = np.random.default_rng(4)
+    a = centre - 0.19 * side + np.c_[rng.uniform(-0.15, 0.15, (100, 2)), np.zeros(100)]
+    b = centre + 0.19 * side + np.c_[rng.uniform(-0.15, 0.15, (100, 2)), np.zeros(100)]
+    for pts in (np.vstack([a, b]), np.vstack([a, b, centre])):  # apart; chained by a stray feature between them
+        sel, _, _ = _select(arm, pts)
+        assert len(sel.objects) == 2
+        assert sel.confidence == pytest.approx(float(sel.scores[sel.index])) and sel.ambiguous
+        summed, _, _ = _select(arm, pts, **{"selection.target_max_extent_m": 5.0})
+        assert summed.confidence > 0.8 and not summed.ambiguous  # one target of two placards: confidently wrong
