@@ -28,11 +28,13 @@ SPLIT_MIN_PART = 10
 """The fewest features on each side of a cut of one chain into two objects."""
 
 SPLIT_MAX_CONDUCTANCE = 0.03
-"""A chain is cut only where the cut's links over the smaller side's links (its conductance) are below this:
-one placard's features hold together at ~0.1 or more across any cut (issue 11 session 45)."""
+"""A chain is cut only where the cut's links over the smaller side's link ends (its conductance) are below this.
+Two placards joined by a stray feature: 0.005 (line_of_sight seed 2900 scene 19, issue 11 session 45)."""
 
 SPLIT_COHESION_RATIO = 3.0
-"""A cut is kept only when each side's own weakest cut is this many times stronger than it."""
+"""A cut is kept only when each side's own weakest cut is this many times stronger than it. One placard's weakest
+cut is 0.010-0.017 (its features gather around the printed shapes), and one of its sides then holds together
+less than 3 times better (sides 0.015-0.059); scene 19's sides: 0.029 and 0.032 against its cut's 0.005."""
 
 SPLIT_MAX_FEATURES = 400
 """Chains of more features than this are not looked at for a cut (the eigenvector's cost grows with the cube)."""
