@@ -97,23 +97,25 @@ def extent_m(left_px: np.ndarray, depth_m: float, focal_px: float) -> float:
 
 
 def split_chain(members: np.ndarray, pairs: np.ndarray, left_px: np.ndarray, depth_m: np.ndarray, focal_px: float,
-                max_extent_m: float, depth: int = 2) -> list[np.ndarray]:
+                max_extent_m: float, depth: int = 2, cut: tuple | None = None) -> list[np.ndarray]:
     """Return a chain of features (indices, linked by ``pairs``) as the objects it holds: itself, or its two sides.
 
     A chain no wider than ``max_extent_m`` (metres across the line of sight, at its median depth) is one
     object. A wider one is cut at the spectral cut of least conductance when that cut is weak (a few
     links: two placards side by side, or a stray feature between them) and each side holds together
-    far better than the cut; each side is looked at again, ``depth`` times at most.
+    far better than the cut; each side is looked at again, ``depth`` times at most. ``cut``: the chain's
+    own ``_least_cut`` when already known.
     """
     if depth <= 0 or not extent_m(left_px[members], float(np.median(depth_m[members])), focal_px) > max_extent_m:
         return [members]
-    phi, first, second = _least_cut(members, pairs)
+    phi, first, second = cut if cut is not None else _least_cut(members, pairs)
     if not phi < SPLIT_MAX_CONDUCTANCE:
         return [members]
-    if not min(_least_cut(first, pairs)[0], _least_cut(second, pairs)[0]) >= SPLIT_COHESION_RATIO * phi:
+    sides = [(first, _least_cut(first, pairs)), (second, _least_cut(second, pairs))]
+    if not min(side_cut[0] for _, side_cut in sides) >= SPLIT_COHESION_RATIO * phi:
         return [members]
-    return [part for side in (first, second)
-            for part in split_chain(side, pairs, left_px, depth_m, focal_px, max_extent_m, depth - 1)]
+    return [part for side, side_cut in sides
+            for part in split_chain(side, pairs, left_px, depth_m, focal_px, max_extent_m, depth - 1, side_cut)]
 
 
 def _least_cut(members: np.ndarray, pairs: np.ndarray) -> tuple[float, np.ndarray, np.ndarray]:
