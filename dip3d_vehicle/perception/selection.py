@@ -216,7 +216,7 @@ class DefaultSelector(PointingSelector):
     def __init__(self, model: ArmModel = ArmModel(), group_radius_px: float = 20.0, group_radius_m: float = 0.05,
                  min_object_features: int = 3, min_confidence: float = 0.6, object_radius_m: float = 0.15,
                  open_set: OpenSet = OpenSet(), evidence: str = "laplace", evidence_samples: int = 2048,
-                 unrecognised_weight: float = 1.0, target_max_extent_m: float = math.inf) -> None:
+                 unrecognised_weight: float = 1.0, target_max_extent_m: float = 0.6) -> None:
         self.model, self.open_set = model, open_set
         self.target_max_extent_m = target_max_extent_m
         self.unrecognised_weight = unrecognised_weight
