@@ -2,7 +2,8 @@
 
     python docs/issue11/session33/scripts/fam.py N SEED0 NOISE[,NOISE...] [KEY=VALUE ...]
 
-``tally_default`` and ``summary`` are also what ``grid_fam.py`` and ``oracle_depth.py`` run and print.
+``tally_default`` and ``summary`` are also what ``grid_fam.py`` and ``oracle_depth.py`` run and print;
+``record_truth`` and ``truth_joints_px`` are the oracles' view of each draw's truth.
 """
 import sys
 import tempfile
@@ -20,6 +21,22 @@ def tally_default(n: int, seed0: int, noise: tuple, over=()) -> "sf.Tally":
             sf.tally_family(Path(tmp), family, n, 8, seed0, noise_px=noise, profiles=("default",), tally=tally,
                             overrides=over)
     return tally
+
+
+def record_truth(state: dict) -> None:
+    """Wrap ``scene_families.noisy`` so that ``state["truth"]`` holds each draw's truth keypoints (original px)."""
+    drawn = sf.noisy
+
+    def noisy(keypoints, sigma_px, rng):
+        state["truth"] = keypoints
+        return drawn(keypoints, sigma_px, rng)
+    sf.noisy = noisy
+
+
+def truth_joints_px(rig, truth: dict, side: str):
+    """Return the truth shoulder, elbow and wrist in ``side``'s rectified image, (3, 2) pixels."""
+    import numpy as np
+    return rig.to_rectified(np.array([truth[side][n] for n in ("shoulder", "elbow", "wrist")], float), side)
 
 
 def summary(tally: "sf.Tally", label: str, noise: tuple) -> str:

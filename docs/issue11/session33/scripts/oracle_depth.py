@@ -2,28 +2,21 @@
 import os, sys, dataclasses
 import numpy as np
 sys.path.insert(0, "tests/perception")
-import scene_families as sf
 sys.path.insert(0, "docs/issue11/session33/scripts")
-from fam import summary, tally_default  # noqa: E402
+from fam import record_truth, summary, tally_default, truth_joints_px  # noqa: E402
 from dip3d_vehicle.perception import pipeline as P
 
 SIG = float(os.environ.get("ORACLE_SIGMA", "0.3"))
 state = {}
 ORNG = np.random.default_rng(12345)
-orig_noisy = sf.noisy
-def noisy(kp, s, rng):
-    state["truth"] = kp
-    return orig_noisy(kp, s, rng)
-sf.noisy = noisy
+record_truth(state)
 orig_est = P.Perception.estimate_arm
 def estimate_arm(self, l, r):
     arm = orig_est(self, l, r)
     if arm is None or "truth" not in state or SIG < 0:
         return arm
     t = state["truth"]
-    names = ("shoulder", "elbow", "wrist")
-    L = self.rig.to_rectified(np.array([t["left"][n] for n in names], float), "left")
-    R = self.rig.to_rectified(np.array([t["right"][n] for n in names], float), "right")
+    L, R = truth_joints_px(self.rig, t, "left"), truth_joints_px(self.rig, t, "right")
     d = L[:, 0] - R[:, 0] + ORNG.normal(0.0, SIG, 3) * float(os.environ.get('ORACLE_NOISE', '0'))
     only = [int(c) for c in os.environ.get("ORACLE_JOINTS", "012")]
     right = np.array(arm.right_px, float, copy=True)

@@ -9,23 +9,17 @@ import os, sys
 import numpy as np
 sys.path.insert(0, "tests/perception")
 sys.path.insert(0, "docs/issue11/session33/scripts")
-import scene_families as sf  # noqa: E402
 import fam  # noqa: E402
 from dip3d_vehicle.perception import given_arm as G, pipeline as P  # noqa: E402
 
 ONLY = [int(c) for c in os.environ.get("LOC_JOINTS", "2")]
 state = {}
-orig_noisy = sf.noisy
-def noisy(kp, s, rng):
-    state["truth"] = kp
-    return orig_noisy(kp, s, rng)
-sf.noisy = noisy
+fam.record_truth(state)
 orig_est = P.Perception.estimate_arm
 def estimate_arm(self, l, r):
     t = state.get("truth")
     if t is not None:
-        names = ("shoulder", "elbow", "wrist")
-        state["left"] = self.rig.to_rectified(np.array([t["left"][n] for n in names], float), "left")
+        state["left"] = fam.truth_joints_px(self.rig, t, "left")
     return orig_est(self, l, r)
 P.Perception.estimate_arm = estimate_arm
 orig_jd = G.joint_disparities
