@@ -46,7 +46,9 @@ the norm), and two copies in the model would fail every frame feature's ratio te
 
 @dataclass(frozen=True)
 class TrackerConfig:
-    """Tracker settings (``behaviour.track_*`` and the selector's grouping ``selection.group_*``)."""
+    """Tracker settings (``behaviour.track_*`` and the selector's grouping: ``selection.group_*``,
+    ``selection.object_radius_m`` and ``selection.target_max_extent_m``, so the tracker's objects are
+    the selector's)."""
 
     ratio: float = 0.8
     min_matches: int = 4
@@ -60,6 +62,8 @@ class TrackerConfig:
     gate_max_m: float = 0.75
     near_m: float = 0.25
     pool_below: int = 50
+    object_radius_m: float = 0.15
+    max_extent_m: float = 0.6
 
     @classmethod
     def from_params(cls, params: Mapping) -> "TrackerConfig":
@@ -69,7 +73,9 @@ class TrackerConfig:
                    params["behaviour.track_model_size"], params["behaviour.track_lost_frames"],
                    params["selection.group_radius_px"], params["selection.group_radius_m"],
                    params["selection.min_object_features"], gate_max_m=params["behaviour.track_gate_max_m"],
-                   near_m=params["behaviour.track_near_m"], pool_below=params["behaviour.track_pool_below"])
+                   near_m=params["behaviour.track_near_m"], pool_below=params["behaviour.track_pool_below"],
+                   object_radius_m=params["selection.object_radius_m"],
+                   max_extent_m=params["selection.target_max_extent_m"])
 
 
 @dataclass(frozen=True)
@@ -285,7 +291,7 @@ class TargetTracker:
             return None
         c = self.config
         objects = group_objects(candidates, xyz_m, self.rig, c.group_radius_px, c.group_radius_m,
-                                c.min_object_features)
+                                c.min_object_features, c.object_radius_m, c.max_extent_m)
         if not objects:
             return None
         # each part of the model separately: the same feature in both would defeat the ratio test

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -80,19 +81,45 @@ def test_rewind_after_the_nod_predicts_from_where_the_target_was_and_forgives_it
 
 def _scene(objects_xyz: list, features: int, rig, seed: int = 3):
     """Return candidates and their 3D points: ``features`` features on each given object centre (camera frame, m)."""
+    rng = np.random.default_rng(seed)
+    xyz = np.vstack([np.asarray(c, float) + rng.normal(0.0, 0.01, (features, 3)) for c in objects_xyz])
+    return _seen(xyz, rig, rng), xyz
+
+
+def _seen(xyz: np.ndarray, rig, rng: np.random.Generator):
+    """Return exact candidates of 3D points (camera frame, m) in both rectified images, random descriptors."""
     from dip3d_vehicle.perception.values import Candidates
 
-    rng = np.random.default_rng(seed)
     f, (cx, cy) = rig.focal_px, rig.principal_point_px
-    px, xyz = [], []
-    for centre in objects_xyz:
-        pts = np.asarray(centre, float) + rng.normal(0.0, 0.01, (features, 3))
-        xyz.append(pts)
-        px.append(np.c_[f * pts[:, 0] / pts[:, 2] + cx, f * pts[:, 1] / pts[:, 2] + cy])
-    px, xyz = np.vstack(px), np.vstack(xyz)
+    px = np.c_[f * xyz[:, 0] / xyz[:, 2] + cx, f * xyz[:, 1] / xyz[:, 2] + cy]
     disparity = f * abs(rig.baseline_m) / xyz[:, 2]
     desc = rng.random((len(px), 128)).astype(np.float32)
-    return Candidates(px, px - np.c_[disparity, np.zeros(len(px))], desc, np.full(len(px), 4.0)), xyz
+    return Candidates(px, px - np.c_[disparity, np.zeros(len(px))], desc, np.full(len(px), 4.0))
+
+
+def test_the_tracker_groups_as_the_selector_does_two_placards_chained_by_a_stray_feature_are_two_objects():
+    """The selector cut a chain of two placards 0.08 m apart (``selection.target_max_extent_m``) and chose one;
+    the tracker's objects are cut the same way, so the target's centre stays on its placard, not between them."""
+    from dip3d_vehicle.perception.grouping import group_objects
+
+    rig = load_scenario("paper_pool", 0).rig()
+    z_m, rng = 2.6, np.random.default_rng(5)
+    ticks = np.arange(-0.15, 0.15 + 1e-9, 0.03)
+    grid = np.array([(x, y) for x in ticks for y in ticks])
+    a, b = (np.c_[grid + rng.normal(0.0, 0.003, grid.shape) + [x, 0.0], np.full(len(grid), z_m)] for x in (-0.19, 0.19))
+    step_px = rig.focal_px * 0.03 / z_m
+    xyz = np.vstack([a, b, [[0.0, 0.0, z_m]]])  # the stray feature links both placards within the grouping radius
+    cands = _seen(xyz, rig, rng)
+    config = TrackerConfig(group_radius_px=1.5 * step_px, group_radius_m=0.05)
+    target = next(o for o in group_objects(cands, xyz, rig, config.group_radius_px, config.group_radius_m,
+                                           config.min_object_features, max_extent_m=config.max_extent_m)
+                  if o.xyz_m[0] < 0)
+    assert np.linalg.norm(target.xyz_m - [-0.19, 0.0, z_m]) < 0.05
+    for max_extent_m, expected_x_m in ((config.max_extent_m, -0.19), (np.inf, 0.0)):  # the limit; none (chained)
+        tracker = TargetTracker(replace(config, max_extent_m=max_extent_m), rig)
+        tracker.start(target, cands, 0.0)
+        found = tracker.update(cands, xyz, 0.1)
+        assert found is not None and found.xyz_m[0] == pytest.approx(expected_x_m, abs=0.05)
 
 
 def test_a_small_target_with_one_descriptor_match_is_kept_only_when_it_is_alone_near_the_prediction():
