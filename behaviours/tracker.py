@@ -56,8 +56,8 @@ class TrackerConfig:
     gate_growth_m_s: float = 0.4
     model_size: int = 600
     lost_frames: int = 3
-    group_radius_px: float = 60.0
-    group_radius_m: float = 0.2
+    group_radius_px: float = 20.0
+    group_radius_m: float = 0.05
     min_object_features: int = 3
     gate_max_m: float = 0.75
     near_m: float = 0.25

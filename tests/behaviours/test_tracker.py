@@ -19,6 +19,11 @@ from sitl.scenario import load_scenario
 from sitl.simulation import sim_params
 
 
+def test_a_tracker_built_in_code_takes_the_parameter_files_defaults():
+    """``TrackerConfig()`` mirrors the schema's defaults (it grouped at 60 px / 0.2 m against the files' 20 px / 0.05 m)."""
+    assert TrackerConfig() == TrackerConfig.from_params(load_params())
+
+
 def test_prediction_turns_and_translates_the_point():
     p = predict_xyz(np.array([0.0, 0.0, 2.0]), VelocityCommand(yaw_rate_rad_s=0.5), 1.0)
     assert p[0] < 0 and math.isclose(np.linalg.norm(p), 2.0)
