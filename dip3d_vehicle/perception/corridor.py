@@ -119,12 +119,7 @@ class CorridorDetector:
         box is the left one widened by the disparity range.
         """
         t0 = time.perf_counter()
-        height, width = left_rect.shape[:2]
-        poly = self.wedge(arm, width, height, rig)
-        self.last_polygon = poly
-        if poly is None:
-            return Candidates.empty()
-        boxes = [b for b in (_clip_box(piece, width, height) for piece in _pieces(poly, self.tiles)) if b is not None]
+        poly, boxes = self._wedge_boxes(arm, left_rect.shape, rig)
         if not boxes:
             return Candidates.empty()
         out = self._match_boxes(left_rect, right_rect, boxes, [_polygon_mask(poly, box) for box in boxes], rig, poly=poly)
@@ -167,12 +162,10 @@ class CorridorDetector:
         to ``BEYOND_OVERLAP_PX`` inside the old wedge may be found again (the caller keeps one of each).
         """
         t0 = time.perf_counter()
-        height, width = left_rect.shape[:2]
-        poly = self.wedge(arm, width, height, rig)
-        self.last_polygon = poly
-        if poly is None:
+        poly, boxes = self._wedge_boxes(arm, left_rect.shape, rig)
+        if not boxes:
             return Candidates.empty()
-        boxes = [b for b in (_clip_box(piece, width, height) for piece in _pieces(poly, self.tiles)) if b is not None]
+        width = left_rect.shape[1]
         scale = self._scale(boxes)
         new_boxes, masks = [], []
         for box in boxes:
@@ -188,6 +181,16 @@ class CorridorDetector:
         out = self._match_boxes(left_rect, right_rect, new_boxes, masks, rig, scale=scale, right_masks=right_masks)
         self.last_timings_ms = {"corridor": (time.perf_counter() - t0) * 1e3}
         return out
+
+    def _wedge_boxes(self, arm: ArmKeypoints, shape: tuple[int, ...], rig: StereoRig
+                     ) -> tuple[np.ndarray | None, list[tuple[int, int, int, int]]]:
+        """Return ``arm``'s wedge (kept as ``last_polygon``) and its pieces' boxes inside an image of ``shape``, px."""
+        height, width = shape[:2]
+        poly = self.wedge(arm, width, height, rig)
+        self.last_polygon = poly
+        if poly is None:
+            return None, []
+        return poly, [b for b in (_clip_box(piece, width, height) for piece in _pieces(poly, self.tiles)) if b is not None]
 
     def wedge(self, arm: ArmKeypoints, width: int, height: int, rig: StereoRig) -> np.ndarray | None:
         """Return the corridor's wedge for ``arm`` (``corridor_polygon``, starting beyond a neural pose's hand)."""
