@@ -28,7 +28,7 @@ import numpy as np
 
 from dip3d_vehicle.perception.calibration import StereoRig
 from dip3d_vehicle.perception.corridor import ZOOM_MIN_DEPTH_M
-from dip3d_vehicle.perception.grouping import group_objects
+from dip3d_vehicle.perception.grouping import extent_m, group_objects, objects_of
 from dip3d_vehicle.perception.values import Candidates, ObjectCandidate
 from dip3d_vehicle.servo.command import VelocityCommand
 
@@ -316,10 +316,34 @@ class TargetTracker:
                 best, best_key, best_count = obj, (anchored, count), count
         if best is None:
             best, best_count = self._near_and_alone(objects, counts, distances, gate)
+        else:
+            best = self._matched_part(best, first, candidates, xyz_m)
         if best is None:
             return None
         return TrackedTarget(np.asarray(best.left_px, float), np.asarray(best.xyz_m, float), best_count,
                              stamp_s, best)
+
+    def _matched_part(self, obj: ObjectCandidate, first: np.ndarray, candidates: Candidates,
+                      xyz_m: np.ndarray) -> ObjectCandidate:
+        """Return the part of ``obj`` around the features matching the first sighting, if ``obj`` is wider than a target.
+
+        Two placards joined by what lies between them (a line on the floor) stay one object, whose centre lies
+        between them: the target is then the features within half a target's width (``max_extent_m``, metres
+        at their depth) of the matched features' median left-image position.
+        """
+        c = self.config
+        members = np.asarray(obj.members)
+        matched = members[first[members] >= 0]
+        if len(matched) < c.min_matches:
+            return obj
+        depth_m = float(np.median(xyz_m[matched, 2]))
+        if not extent_m(candidates.left_px[members], depth_m, self.rig.focal_px) > c.max_extent_m:
+            return obj
+        centre_px = np.median(candidates.left_px[matched], axis=0)
+        radius_px = 0.5 * c.max_extent_m * self.rig.focal_px / depth_m
+        near = np.linalg.norm(candidates.left_px[members] - centre_px, axis=1) <= radius_px
+        part = objects_of(candidates, self.rig, [members[near]])
+        return part[0] if part else obj
 
     def _near_and_alone(self, objects: list[ObjectCandidate], counts: list[int], distances_m: list[float],
                         gate_m: float) -> tuple[ObjectCandidate | None, int]:

@@ -19,7 +19,7 @@ from .calibration import StereoRig
 from .triangulation import normalize_q, triangulate
 from .values import Candidates, ObjectCandidate
 
-__all__ = ["group_objects", "split_chain", "extent_m", "MATCH_SIGMA_PX"]
+__all__ = ["group_objects", "objects_of", "split_chain", "extent_m", "MATCH_SIGMA_PX"]
 
 MATCH_SIGMA_PX = 0.3
 """Assumed disparity error of a matched feature, pixels (SIFT on Middlebury: median error 0.1-0.3 px)."""
@@ -78,9 +78,15 @@ def group_objects(candidates: Candidates, xyz_m: np.ndarray, rig: StereoRig, rad
         merged = _components(len(idx), close)
         groups = [np.concatenate([groups[idx[k]] for k in ks]) for ks in _groups(merged)]
     groups = _join_small_fragments(groups, xyz_m, sig, radius_m, min_features, object_radius_m)
-    groups = [g for g in groups if len(g) >= min_features]
+    return objects_of(candidates, rig, [g for g in groups if len(g) >= min_features])
+
+
+def objects_of(candidates: Candidates, rig: StereoRig, groups: list[np.ndarray]) -> list[ObjectCandidate]:
+    """Return an object per group of feature indices: the median disparity triangulated at the median left-image
+    position (metres), its depth sigma shrinking with the group's size; a group with no finite centre ahead is left out.
+    """
     out = []
-    for members, px, centre in zip(groups, *_centres(candidates, Q, groups)):
+    for members, px, centre in zip(groups, *_centres(candidates, normalize_q(rig.Q, rig.disparity_sign), groups)):
         if not np.all(np.isfinite(centre)) or centre[2] <= 0:
             continue
         sigma = float(rig.depth_sigma_m(centre[2], max(1.25 * MATCH_SIGMA_PX / math.sqrt(len(members)), 0.1)))
