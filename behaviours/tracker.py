@@ -25,6 +25,7 @@ from typing import Mapping, NamedTuple
 
 import cv2
 import numpy as np
+from scipy.spatial import cKDTree
 
 from dip3d_vehicle.perception.calibration import StereoRig
 from dip3d_vehicle.perception.corridor import ZOOM_MIN_DEPTH_M
@@ -328,8 +329,7 @@ class TargetTracker:
         """Return the part of ``obj`` around the features matching the first sighting, if ``obj`` is wider than a target.
 
         Two placards joined by what lies between them (a line on the floor) stay one object, whose centre lies
-        between them: the target is then the features within half a target's width (``max_extent_m``, metres
-        at their depth) of the matched features' median left-image position.
+        between them: the target is then the matched features and their neighbours (``group_radius_px``).
         """
         c = self.config
         members = np.asarray(obj.members)
@@ -339,10 +339,8 @@ class TargetTracker:
         depth_m = float(np.median(xyz_m[matched, 2]))
         if not extent_m(candidates.left_px[members], depth_m, self.rig.focal_px) > c.max_extent_m:
             return obj
-        centre_px = np.median(candidates.left_px[matched], axis=0)
-        radius_px = 0.5 * c.max_extent_m * self.rig.focal_px / depth_m
-        near = np.linalg.norm(candidates.left_px[members] - centre_px, axis=1) <= radius_px
-        part = objects_of(candidates, self.rig, [members[near]])
+        gap_px = cKDTree(candidates.left_px[matched]).query(candidates.left_px[members], k=1)[0]
+        part = objects_of(candidates, self.rig, [members[gap_px <= c.group_radius_px]])
         return part[0] if part else obj
 
     def _near_and_alone(self, objects: list[ObjectCandidate], counts: list[int], distances_m: list[float],

@@ -127,6 +127,31 @@ def test_the_tracker_groups_as_the_selector_does_two_placards_chained_by_a_stray
         assert found is not None and found.xyz_m[0] == pytest.approx(expected_x_m, abs=0.05)
 
 
+def test_two_placards_joined_by_a_floor_line_are_tracked_by_the_part_that_matches_not_their_centre():
+    """Seen from 1 m, two placards 0.05 m apart and a line of features below both stay one object (hundreds of features,
+    many links: not cut); the target is the part around the features matching its model (side_by_side seed 6)."""
+    from dip3d_vehicle.perception.grouping import group_objects, objects_of
+
+    rig = load_scenario("paper_pool", 0).rig()
+    z_m, rng = 1.0, np.random.default_rng(8)
+    ticks = np.arange(-0.15, 0.15 + 1e-9, 0.015)
+    grid = np.array([(x, y) for x in ticks for y in ticks])
+    a, b = (np.c_[grid + [x, 0.0], np.full(len(grid), z_m)] for x in (-0.175, 0.175))
+    line = np.c_[np.arange(-0.33, 0.33 + 1e-9, 0.015), np.full(45, 0.17), np.full(45, z_m)]  # below both (y down)
+    xyz = np.vstack([a, b, line])
+    cands = _seen(xyz, rig, rng)
+    config = TrackerConfig()
+    chain = group_objects(cands, xyz, rig, config.group_radius_px, config.group_radius_m, config.min_object_features,
+                          config.object_radius_m, config.max_extent_m)
+    assert len(chain) == 1 and abs(chain[0].xyz_m[0]) < 0.05  # one object, its centre between the placards
+    target = objects_of(cands, rig, [np.arange(len(a))])[0]
+    tracker = TargetTracker(config, rig)
+    tracker.start(target, cands, 0.0)
+    found = tracker.update(cands, xyz, 0.1)
+    assert found is not None and found.xyz_m[0] == pytest.approx(-0.175, abs=0.03)
+    assert found.left_px[0] < chain[0].left_px[0] - 100.0
+
+
 def test_a_small_target_with_one_descriptor_match_is_kept_only_when_it_is_alone_near_the_prediction():
     """A corridor-found target of a few features shares one descriptor with its model: its position identifies
     it while nothing else is in the gate (murky seed 9 from pixels, issue 14 session 30); with a second object in
