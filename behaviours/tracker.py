@@ -4,7 +4,8 @@ The target is remembered by its appearance (the SIFT descriptors of its member f
 centre. In each new frame the full-frame matched features (no arm mask: the diver no longer matters)
 are grouped into objects (``group_objects``, as the selector does); the target is the object with
 the most descriptor matches to the model (Lowe's ratio test; each model descriptor counts once) whose
-centre lies inside a gate around the predicted centre. The prediction moves the last centre by the
+centre lies inside a gate around the predicted centre; of an object wider than one target (two placards joined by a
+line on the floor), only the part around the features that match. The prediction moves the last centre by the
 commanded vehicle motion since then (yaw turns the scene about the camera's vertical axis,
 surge/heave translate it); the gate
 grows with the time since the last sighting. The model keeps the first sighting's descriptors (the
@@ -326,7 +327,7 @@ class TargetTracker:
 
     def _matched_part(self, obj: ObjectCandidate, first: np.ndarray, candidates: Candidates,
                       xyz_m: np.ndarray) -> ObjectCandidate:
-        """Return the part of ``obj`` around the features matching the first sighting, if ``obj`` is wider than a target.
+        """Return the part of ``obj`` around its features matching the first sighting, if it is wider than a target.
 
         Two placards joined by what lies between them (a line on the floor) stay one object, whose centre lies
         between them: the target is then the matched features and their neighbours (``group_radius_px``).
