@@ -6,24 +6,12 @@ descriptor matches, its distance from the prediction and the true placard neares
 import sys
 import numpy as np
 from behaviours import tracker as T
-from sitl import render as R
-from sitl.point_campaign import _simulation
+from sim_tap import run_mission, tap_placards
 
 name, seed = sys.argv[1], int(sys.argv[2])
 t_end = float(sys.argv[3]) if len(sys.argv) > 3 else 9.0
 last = {}
-orig_render = R.StereoRenderer.render
-
-
-def render(self, *a, **k):
-    """Keep the frame's truth placards (camera frame, rectified) for the trace."""
-    frame = orig_render(self, *a, **k)
-    last["placards"] = {p: np.asarray(i["xyz_cam_m"]) for p, i in frame.meta["placards"].items()}
-    last["t"] = frame.meta.get("t_s", a[-1] if a else None)
-    return frame
-
-
-R.StereoRenderer.render = render
+tap_placards(last)
 orig_find = T.TargetTracker._find
 
 
@@ -52,9 +40,4 @@ def find(self, candidates, xyz_m, predicted, stamp_s):
 
 
 T.TargetTracker._find = find
-sim = _simulation(name, seed, {})
-try:
-    result = sim.run()
-finally:
-    sim.close()
-print("outcome", result.target_id, result.chosen_id, result.arrived)
+run_mission(name, seed)
