@@ -20,7 +20,7 @@ from sitl.simulation import sim_params
 
 
 def test_a_tracker_built_in_code_takes_the_parameter_files_defaults():
-    """``TrackerConfig()`` mirrors the schema's defaults (it grouped at 60 px / 0.2 m against the files' 20 px / 0.05 m)."""
+    """``TrackerConfig()`` mirrors the schema's defaults (it grouped at 60 px / 0.2 m, the files at 20 px / 0.05 m)."""
     assert TrackerConfig() == TrackerConfig.from_params(load_params())
 
 
@@ -102,6 +102,15 @@ def _seen(xyz: np.ndarray, rig, rng: np.random.Generator):
     return Candidates(px, px - np.c_[disparity, np.zeros(len(px))], desc, np.full(len(px), 4.0))
 
 
+def _placard(centre_x_m: float, z_m: float, step_m: float, rng: np.random.Generator | None = None) -> np.ndarray:
+    """Return features on a 0.3 m placard facing the camera at ``z_m`` (a ``step_m`` grid, jittered 3 mm by ``rng``)."""
+    ticks = np.arange(-0.15, 0.15 + 1e-9, step_m)
+    grid = np.array([(x, y) for x in ticks for y in ticks])
+    if rng is not None:
+        grid = grid + rng.normal(0.0, 0.003, grid.shape)
+    return np.c_[grid + [centre_x_m, 0.0], np.full(len(grid), z_m)]
+
+
 def test_the_tracker_groups_as_the_selector_does_two_placards_chained_by_a_stray_feature_are_two_objects():
     """The selector cut a chain of two placards 0.08 m apart (``selection.target_max_extent_m``) and chose one;
     the tracker's objects are cut the same way, so the target's centre stays on its placard, not between them."""
@@ -109,9 +118,7 @@ def test_the_tracker_groups_as_the_selector_does_two_placards_chained_by_a_stray
 
     rig = load_scenario("paper_pool", 0).rig()
     z_m, rng = 2.6, np.random.default_rng(5)
-    ticks = np.arange(-0.15, 0.15 + 1e-9, 0.03)
-    grid = np.array([(x, y) for x in ticks for y in ticks])
-    a, b = (np.c_[grid + rng.normal(0.0, 0.003, grid.shape) + [x, 0.0], np.full(len(grid), z_m)] for x in (-0.19, 0.19))
+    a, b = (_placard(x, z_m, 0.03, rng) for x in (-0.19, 0.19))
     step_px = rig.focal_px * 0.03 / z_m
     xyz = np.vstack([a, b, [[0.0, 0.0, z_m]]])  # the stray feature links both placards within the grouping radius
     cands = _seen(xyz, rig, rng)
@@ -134,10 +141,9 @@ def test_two_placards_joined_by_a_floor_line_are_tracked_by_the_part_that_matche
 
     rig = load_scenario("paper_pool", 0).rig()
     z_m, rng = 1.0, np.random.default_rng(8)
-    ticks = np.arange(-0.15, 0.15 + 1e-9, 0.015)
-    grid = np.array([(x, y) for x in ticks for y in ticks])
-    a, b = (np.c_[grid + [x, 0.0], np.full(len(grid), z_m)] for x in (-0.175, 0.175))
-    line = np.c_[np.arange(-0.33, 0.33 + 1e-9, 0.015), np.full(45, 0.17), np.full(45, z_m)]  # below both (y down)
+    a, b = (_placard(x, z_m, 0.015) for x in (-0.175, 0.175))
+    along = np.arange(-0.33, 0.33 + 1e-9, 0.015)
+    line = np.c_[along, np.full(len(along), 0.17), np.full(len(along), z_m)]  # below both (y down)
     xyz = np.vstack([a, b, line])
     cands = _seen(xyz, rig, rng)
     config = TrackerConfig()
