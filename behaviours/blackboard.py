@@ -97,6 +97,7 @@ class BehaviourConfig:
     fusion_min_shared_posterior: float = 0.5
     fusion_shared_rule: str = "always"
     fusion_min_pose_shared_posterior: float = 0.5
+    target_max_extent_m: float = 0.6
     second_look_max_tries: int = 1
     second_look_step_m: float = 0.4
     second_look_speed_m_s: float = 0.15
@@ -124,10 +125,11 @@ class BehaviourConfig:
 
     @classmethod
     def from_params(cls, params: Mapping[str, Any]) -> "BehaviourConfig":
-        """Build from effective parameters (``behaviour.*``, ``servo.standoff_m``, ``mission.statustext``)."""
+        """Build from effective parameters (``behaviour.*``, ``servo.standoff_m``, ``mission.statustext``,
+        ``selection.target_max_extent_m``)."""
         out, known = {}, set(params)
         for f in fields(cls):
-            for key in (f"behaviour.{f.name}", f"servo.{f.name}", f"mission.{f.name}"):
+            for key in (f"behaviour.{f.name}", f"servo.{f.name}", f"mission.{f.name}", f"selection.{f.name}"):
                 if key in known:
                     out[f.name] = params[key]
                     break

@@ -21,7 +21,8 @@ frames never count as more than ``max_effective_frames`` independent ones (a sys
 ambiguous selector does not become certainty with time: past that, the fused score is the frames'
 mean log probability times ``max_effective_frames``). A frame whose arm was fine but that found no
 object at all counts as ``no_objects_none_p`` for "none". The geometry is averaged too: each
-object's position is the probability-weighted mean of its sightings. Every frame's part (its log
+object's position is the probability-weighted mean of its sightings; objects of one frame on one
+hypothesis are its fragments and add up, while together they fit one target (``max_extent_m``). Every frame's part (its log
 probability per hypothesis) is kept for the story and the log.
 
 The frames of one held point share errors no number of frames averages away: the diver's own
@@ -45,6 +46,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from dip3d_vehicle.perception.grouping import extent_m
 from dip3d_vehicle.perception.held_arm import HeldArm
 from dip3d_vehicle.perception.pipeline import PerceptionResult
 from dip3d_vehicle.perception.values import Candidates, ObjectCandidate
@@ -193,6 +195,17 @@ def _tracker_sighting(h: Hypothesis, obj: ObjectCandidate, same_frame: bool) -> 
     return not same_frame or h.obj is None or len(obj.members) > len(h.obj.members)
 
 
+def _across_m(xyz_m: np.ndarray) -> float:
+    """Return the widest span of 3D points (camera frame, metres) across the line of sight at their median depth, m.
+
+    Points with no finite position or not ahead of the camera are left out.
+    """
+    pts = xyz_m[np.all(np.isfinite(xyz_m), axis=1) & (xyz_m[:, 2] > 0)] if len(xyz_m) else xyz_m
+    if len(pts) < 2:
+        return 0.0
+    return extent_m(pts[:, :2] / pts[:, 2:3], float(np.median(pts[:, 2])), 1.0)
+
+
 def _pool(h: Hypothesis, obj: ObjectCandidate, candidates: Candidates) -> None:
     """Put the sighting ``obj`` (members index into ``candidates``) first in ``h``'s pool (the newest
     ``POOL_SIGHTINGS`` kept)."""
@@ -219,6 +232,8 @@ class PointFusion:
         recall_s: a frame's missed detection is not a vote against an object (0: off, it is). An
             object seen within this many seconds and missed by the frame is recalled into it
             (``recall``); one first seen late starts from "none"'s frames, not the floor's (``add``).
+        max_extent_m: objects of one frame whose features together span more than this across the
+            line of sight (metres) are never one hypothesis (``add``; inf: any within ``radius_m`` are).
 
     Raises:
         ValueError: an unknown ``shared_rule``.
@@ -233,6 +248,7 @@ class PointFusion:
     shared_rule: str = "always"
     min_pose_shared_posterior: float = 0.5
     recall_s: float = 0.0
+    max_extent_m: float = math.inf
     shared_error: bool = False
     pose_error: bool = False
     direction: np.ndarray | None = None
@@ -263,18 +279,36 @@ class PointFusion:
 
     def match(self, xyz: np.ndarray) -> Hypothesis | None:
         """Return the nearest hypothesis within ``radius_m`` of ``xyz`` (camera frame, m), or None."""
-        best, best_d = None, self.radius_m
-        for h in self.hypotheses:
-            d = float(np.linalg.norm(h.xyz_m - xyz))
-            if d <= best_d:
-                best, best_d = h, d
-        return best
+        return next(iter(self._near(xyz)), None)
+
+    def _near(self, xyz: np.ndarray) -> list[Hypothesis]:
+        """Return the hypotheses within ``radius_m`` of ``xyz`` (camera frame, m), nearest first."""
+        dist = [(float(np.linalg.norm(h.xyz_m - xyz)), i) for i, h in enumerate(self.hypotheses)]
+        return [self.hypotheses[i] for d, i in sorted(dist) if d <= self.radius_m]
+
+    def _home(self, obj: ObjectCandidate, xyz: np.ndarray, taken: dict, points_m: np.ndarray) -> Hypothesis | None:
+        """Return the hypothesis a frame's object falls on: the nearest within ``radius_m`` whose objects of
+        this frame (``taken``: key -> feature indices) it fits one target with (``max_extent_m`` across the line
+        of sight, ``points_m``: the frame's 3D features), or None (a new hypothesis).
+
+        Objects of one frame that fall on one hypothesis are fragments of one object; two placards 0.35 m
+        apart are not: summed, they made one hypothesis of 0.93 per frame, and the tracker was started on
+        the wrong one (issue 11 session 47, side_by_side seed 0).
+        """
+        for h in self._near(xyz):
+            if h.key not in taken or not math.isfinite(self.max_extent_m):
+                return h
+            union = np.concatenate([taken[h.key], np.asarray(obj.members, dtype=int)])
+            if not len(union) or union.max() >= len(points_m) or _across_m(points_m[union]) <= self.max_extent_m:
+                return h
+        return None
 
     def add(self, result: PerceptionResult, stamp_s: float, arm_frames: int = 1) -> FrameEvidence | None:
         """Fuse one frame (with a raised arm); return its part, or None when the frame says nothing.
 
         Objects of one frame that fall on the same hypothesis (a placard split into two clusters)
-        add their probabilities: the frame's part for that hypothesis is their sum. ``arm_frames``:
+        add their probabilities: the frame's part for that hypothesis is their sum, while together
+        they fit one target (``max_extent_m``; else the next nearest hypothesis, or a new one). ``arm_frames``:
         how many frames' arms the frame was decided with (the held arm's mean; for the story).
         """
         probs = frame_probabilities(result, self.no_objects_none_p)
@@ -288,11 +322,14 @@ class PointFusion:
         floor = self._log(0.0)
         seen: dict[str, float] = {}
         fresh = len(result.candidates) - result.recalled
+        taken: dict[str, np.ndarray] = {}
         for obj, p in sorted(objects, key=lambda op: -op[1]):
             xyz = np.asarray(obj.xyz_m, dtype=float)
             if not np.all(np.isfinite(xyz)):
                 continue
-            h = self.match(xyz)
+            h = self._home(obj, xyz, taken, result.candidates_xyz_m)
+            if h is not None:
+                taken[h.key] = np.concatenate([taken.get(h.key, np.zeros(0, int)), np.asarray(obj.members, dtype=int)])
             if min(obj.members, default=0) >= fresh:  # recalled alone: scored with this frame's arm, not sighted
                 if h is not None:
                     seen[h.key] = seen.get(h.key, 0.0) + p

@@ -160,6 +160,56 @@ def test_objects_are_matched_by_position_and_their_geometry_is_averaged():
     assert np.allclose(f.hypotheses[0].xyz_m, [1.05, 0, 3.0]) and f.hypotheses[0].led == 2
 
 
+def _placards_frame(objects: list, probs: list, side_m: float = 0.3) -> PerceptionResult:
+    """A frame whose objects are square placards of 9 features each (``side_m`` wide, 3 m away): each object the
+    placards at the x positions (m) of one list, with its probability; "none" takes the rest."""
+    arm, arm3d = _arm()
+    grid = np.array([(dx, dy) for dx in (-0.5, 0.0, 0.5) for dy in (-0.5, 0.0, 0.5)]) * side_m
+    xs = [x for placards in objects for x in placards]
+    xyz = np.concatenate([np.c_[grid[:, 0] + x, grid[:, 1], np.full(9, 3.0)] for x in xs])
+    objs, start = [], 0
+    for placards in objects:
+        centre = np.array([float(np.mean(placards)), 0.0, 3.0])
+        objs.append(ObjectCandidate(np.array([800 + 100 * centre[0], 600.0]), centre, 0.02,
+                                    tuple(range(start, start + 9 * len(placards)))))
+        start += 9 * len(placards)
+    n = len(xyz)
+    cands = Candidates(np.zeros((n, 2)), np.zeros((n, 2)), np.zeros((n, 128), np.float32), np.zeros(n))
+    scores = np.array(probs, float)
+    sel = Selection(int(np.argmax(scores)), tuple(objs), scores, float(scores.max()), math.inf, "default", True,
+                    1.0 - float(scores.sum()))
+    return PerceptionResult("ok", "", arm, arm3d, cands, xyz, sel)
+
+
+def test_two_placards_side_by_side_in_one_frame_are_two_hypotheses_but_a_split_placard_is_one():
+    """Objects of one frame on one hypothesis are summed only while together they fit one target.
+
+    Two 0.3 m placards 0.35 m apart (0.65 m together, over the 0.6 m widest target), first seen as
+    one object between them, were then both summed into that hypothesis (0.93 per frame), and the
+    tracker was started on the wrong one (issue 11 session 47, side_by_side seed 0). Two halves of
+    one placard (0.3 m together) still sum.
+    """
+    def hypotheses(max_extent_m: float, left_x: float, right_x: float, side_m: float = 0.3) -> list:
+        f = PointFusion(0.3, max_extent_m=max_extent_m)
+        for _ in range(3):
+            f.add(_placards_frame([[left_x, right_x]], [0.87], side_m), 0.0)
+        for _ in range(4):
+            f.add(_placards_frame([[right_x], [left_x]], [0.68, 0.25], side_m), 0.0)
+        return [(h.key, round(float(h.xyz_m[0]), 2), round(f.frames[-1].probabilities[h.key], 2)) for h in f.hypotheses]
+
+    assert hypotheses(math.inf, 0.0, 0.35) == [("o1", 0.22, 0.93)]  # the old rule: both summed
+    assert hypotheses(0.6, 0.0, 0.35) == [("o1", 0.26, 0.68), ("o2", 0.0, 0.25)]
+    assert hypotheses(0.6, 0.0, 0.15, side_m=0.15) == [("o1", 0.1, 0.93)]  # two halves of one placard
+
+
+def test_the_missions_fusion_takes_the_selectors_widest_target(rig):
+    m = engaged_mission(rig, **{"selection.target_max_extent_m": 0.45})
+    enter(m, "select_target")
+    _feed(m, [_placards_frame([[0.0], [0.35]], [0.5, 0.4])])
+    assert m.bb.fusion is not None and m.bb.fusion.max_extent_m == 0.45
+    assert engaged_mission(rig).bb.config.target_max_extent_m == 0.6  # the parameter file's default
+
+
 def test_a_steady_lean_of_truth_pose_frames_is_not_made_certain_the_pointing_error_is_shared():
     """Issue 11: the diver's own pointing error is the same in every frame of a held point, so a steady
     ambiguous lean (far_diver seed 8: a wrong placard 4.7 deg from the arm, the pointed one 5.0 deg) must
