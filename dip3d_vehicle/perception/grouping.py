@@ -34,7 +34,9 @@ Two placards joined by a stray feature: 0.005 (line_of_sight seed 2900 scene 19,
 SPLIT_COHESION_RATIO = 3.0
 """A cut is kept only when each side's own weakest cut is this many times stronger than it. One placard's weakest
 cut is 0.010-0.017 (its features gather around the printed shapes), and one of its sides then holds together
-less than 3 times better (sides 0.015-0.059); scene 19's sides: 0.029 and 0.032 against its cut's 0.005."""
+less than 3 times better (sides 0.015-0.059); scene 19's sides: 0.029 and 0.032 against its cut's 0.005. Not asked
+of a cut whose two sides each fit one target (a chain wider than any target is not one): side_by_side seed 1's two
+placards, cut 0.002, one placard's own weakest cut 0.006 (issue 11 session 48)."""
 
 SPLIT_MAX_FEATURES = 400
 """Chains of more features than this are not looked at for a cut (the eigenvector's cost grows with the cube)."""
@@ -108,20 +110,26 @@ def split_chain(members: np.ndarray, pairs: np.ndarray, left_px: np.ndarray, dep
 
     A chain no wider than ``max_extent_m`` (metres across the line of sight, at its median depth) is one
     object. A wider one is cut at the spectral cut of least conductance when that cut is weak (a few
-    links: two placards side by side, or a stray feature between them) and each side holds together
-    far better than the cut; each side is looked at again, ``depth`` times at most. ``cut``: the chain's
-    own ``_least_cut`` when already known.
+    links: two placards side by side, or a stray feature between them) and either each side fits one
+    target or each side holds together far better than the cut; each side is looked at again, ``depth``
+    times at most. ``cut``: the chain's own ``_least_cut`` when already known.
     """
-    if depth <= 0 or not extent_m(left_px[members], float(np.median(depth_m[members])), focal_px) > max_extent_m:
+    if depth <= 0 or not _wider(members, left_px, depth_m, focal_px, max_extent_m):
         return [members]
     phi, first, second = cut if cut is not None else _least_cut(members, pairs)
     if not phi < SPLIT_MAX_CONDUCTANCE:
         return [members]
     sides = [(first, _least_cut(first, pairs)), (second, _least_cut(second, pairs))]
-    if not min(side_cut[0] for _, side_cut in sides) >= SPLIT_COHESION_RATIO * phi:
+    fit = not any(_wider(side, left_px, depth_m, focal_px, max_extent_m) for side, _ in sides)
+    if not fit and not min(side_cut[0] for _, side_cut in sides) >= SPLIT_COHESION_RATIO * phi:
         return [members]
     return [part for side, side_cut in sides
             for part in split_chain(side, pairs, left_px, depth_m, focal_px, max_extent_m, depth - 1, side_cut)]
+
+
+def _wider(members: np.ndarray, left_px: np.ndarray, depth_m: np.ndarray, focal_px: float, max_extent_m: float) -> bool:
+    """True when features span more than ``max_extent_m`` across the line of sight at their median depth (metres)."""
+    return extent_m(left_px[members], float(np.median(depth_m[members])), focal_px) > max_extent_m
 
 
 def _least_cut(members: np.ndarray, pairs: np.ndarray) -> tuple[float, np.ndarray, np.ndarray]:

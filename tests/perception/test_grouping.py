@@ -43,6 +43,27 @@ def test_two_placards_chained_by_a_stray_feature_are_cut_apart_when_wider_than_a
         assert abs(abs(obj.xyz_m[0]) - 0.19) < 0.02
 
 
+def test_two_placards_are_cut_apart_where_one_holds_together_less_firmly_than_usual():
+    """A weak cut whose two sides each fit one target is kept, however firmly each side holds together.
+
+    side_by_side seed 1 (issue 11 session 48): two placards 0.05 m apart chained into one 0.69 m object by
+    a cut of 0.002, one placard's own weakest cut 0.006 (under the cohesion ratio's 3 times): the one
+    object lay between them, the selector gave it 0.91, and the vehicle went to the other placard.
+    """
+    a = placard(-0.19, seed=1)
+    a = a[np.abs(a[:, 1]) > 0.04]  # a placard printed in two halves 0.12 m apart, joined at two places
+    a = np.vstack([a] + [[[x, -0.02, Z_M], [x, 0.02, Z_M]] for x in (-0.25, -0.13)])
+    b = placard(0.19, seed=2)
+    cands, xyz = candidates_of(np.vstack([a, b, [[0.0, 0.09, Z_M]]]))  # a stray feature joins the placards
+    assert len(group_objects(cands, xyz, RIG, 20.0, 0.05, 3)) == 1
+    objs = group_objects(cands, xyz, RIG, 20.0, 0.05, 3, max_extent_m=0.6)
+    owner = np.r_[np.zeros(len(a), int), np.ones(len(b), int), [-1]]
+    assert sorted(tuple(np.unique(owner[list(o.members)])) for o in objs) in ([(-1, 0), (1,)], [(0,), (-1, 1)])
+    assert sorted(round(float(o.xyz_m[0]), 2) for o in objs) == pytest.approx([-0.19, 0.19], abs=0.01)
+    cands, xyz = candidates_of(a)
+    assert len(group_objects(cands, xyz, RIG, 20.0, 0.05, 3, max_extent_m=0.6)) == 1  # a placard alone: whole
+
+
 def test_one_wide_placard_is_never_cut_nor_a_narrow_chain_looked_at():
     """A 0.7 m placard holds together across every cut; two placards within the extent are left as one chain."""
     wide = placard(0.0, side_m=0.7, seed=3)
