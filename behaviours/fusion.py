@@ -22,8 +22,8 @@ ambiguous selector does not become certainty with time: past that, the fused sco
 mean log probability times ``max_effective_frames``). A frame whose arm was fine but that found no
 object at all counts as ``no_objects_none_p`` for "none". The geometry is averaged too: each
 object's position is the probability-weighted mean of its sightings; objects of one frame on one
-hypothesis are its fragments and add up, while together they fit one target (``max_extent_m``). Every frame's part (its log
-probability per hypothesis) is kept for the story and the log.
+hypothesis are its fragments and add up, while together they fit one target (``max_extent_m``).
+Every frame's part (its log probability per hypothesis) is kept for the story and the log.
 
 The frames of one held point share errors no number of frames averages away: the diver's own
 pointing error (the arm aims a few degrees off the object, the same in every frame) and, with a pose
@@ -289,7 +289,8 @@ class PointFusion:
     def _home(self, obj: ObjectCandidate, xyz: np.ndarray, taken: dict, points_m: np.ndarray) -> Hypothesis | None:
         """Return the hypothesis a frame's object falls on: the nearest within ``radius_m`` whose objects of
         this frame (``taken``: key -> feature indices) it fits one target with (``max_extent_m`` across the line
-        of sight, ``points_m``: the frame's 3D features), or None (a new hypothesis).
+        of sight, ``points_m``: the frame's 3D features; members without a point are summed as before), or
+        None (a new hypothesis).
 
         Objects of one frame that fall on one hypothesis are fragments of one object; two placards 0.35 m
         apart are not: summed, they made one hypothesis of 0.93 per frame, and the tracker was started on
@@ -308,8 +309,8 @@ class PointFusion:
 
         Objects of one frame that fall on the same hypothesis (a placard split into two clusters)
         add their probabilities: the frame's part for that hypothesis is their sum, while together
-        they fit one target (``max_extent_m``; else the next nearest hypothesis, or a new one). ``arm_frames``:
-        how many frames' arms the frame was decided with (the held arm's mean; for the story).
+        they fit one target (``max_extent_m``; else the next nearest hypothesis, or a new one).
+        ``arm_frames``: how many frames' arms the frame was decided with (the held arm's mean; for the story).
         """
         probs = frame_probabilities(result, self.no_objects_none_p)
         if probs is None:
