@@ -120,8 +120,8 @@ def split_chain(members: np.ndarray, pairs: np.ndarray, left_px: np.ndarray, dep
     if not phi < SPLIT_MAX_CONDUCTANCE:
         return [members]
     sides = [(first, _least_cut(first, pairs)), (second, _least_cut(second, pairs))]
-    fit = not any(_wider(side, left_px, depth_m, focal_px, max_extent_m) for side, _ in sides)
-    if not fit and not min(side_cut[0] for _, side_cut in sides) >= SPLIT_COHESION_RATIO * phi:
+    if not min(side_cut[0] for _, side_cut in sides) >= SPLIT_COHESION_RATIO * phi \
+            and any(_wider(side, left_px, depth_m, focal_px, max_extent_m) for side, _ in sides):
         return [members]
     return [part for side, side_cut in sides
             for part in split_chain(side, pairs, left_px, depth_m, focal_px, max_extent_m, depth - 1, side_cut)]
