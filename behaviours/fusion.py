@@ -200,7 +200,7 @@ def _across_m(xyz_m: np.ndarray) -> float:
 
     Points with no finite position or not ahead of the camera are left out.
     """
-    pts = xyz_m[np.all(np.isfinite(xyz_m), axis=1) & (xyz_m[:, 2] > 0)] if len(xyz_m) else xyz_m
+    pts = xyz_m[np.all(np.isfinite(xyz_m), axis=1) & (xyz_m[:, 2] > 0)]
     if len(pts) < 2:
         return 0.0
     return extent_m(pts[:, :2] / pts[:, 2:3], float(np.median(pts[:, 2])), 1.0)
