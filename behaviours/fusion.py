@@ -44,6 +44,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
+import cv2
 import numpy as np
 
 from dip3d_vehicle.perception.grouping import extent_m
@@ -304,12 +305,36 @@ class PointFusion:
                 return h
         return None
 
+    def _within(self, obj: ObjectCandidate, points_m: np.ndarray) -> list[Hypothesis]:
+        """Return the hypotheses an object wider than one target holds: empty when it fits one target.
+
+        An object wider than ``max_extent_m`` across the line of sight is not one target: two placards
+        chained into one object by the grouping. Such a frame says "one of these", so the object supports
+        every hypothesis whose centre lies in its features' hull (the camera's image plane, depth within
+        ``radius_m``) alike and sights none; fused as one object, it gave its whole probability to the
+        nearest placard, and the tracker the chain's centre (issue 11 session 48, two-placard scenarios).
+        Empty also when it holds no hypothesis (it is then fused as any object).
+        """
+        members = np.asarray(obj.members, dtype=int)
+        if not math.isfinite(self.max_extent_m) or not self.hypotheses or not len(members) \
+                or members.max() >= len(points_m):
+            return []
+        pts = points_m[members]
+        pts = pts[np.all(np.isfinite(pts), axis=1) & (pts[:, 2] > 0)]
+        if len(pts) < 3 or not _across_m(pts) > self.max_extent_m:
+            return []
+        hull = cv2.convexHull((pts[:, :2] / pts[:, 2:3]).astype(np.float32))
+        z = float(np.median(pts[:, 2]))
+        return [h for h in self.hypotheses if abs(float(h.xyz_m[2]) - z) <= self.radius_m and cv2.pointPolygonTest(
+            hull, (float(h.xyz_m[0] / h.xyz_m[2]), float(h.xyz_m[1] / h.xyz_m[2])), False) >= 0]
+
     def add(self, result: PerceptionResult, stamp_s: float, arm_frames: int = 1) -> FrameEvidence | None:
         """Fuse one frame (with a raised arm); return its part, or None when the frame says nothing.
 
         Objects of one frame that fall on the same hypothesis (a placard split into two clusters)
         add their probabilities: the frame's part for that hypothesis is their sum, while together
-        they fit one target (``max_extent_m``; else the next nearest hypothesis, or a new one).
+        they fit one target (``max_extent_m``; else the next nearest hypothesis, or a new one). An
+        object wider than one target adds its probability to each hypothesis it holds (``_within``).
         ``arm_frames``: how many frames' arms the frame was decided with (the held arm's mean; for the story).
         """
         probs = frame_probabilities(result, self.no_objects_none_p)
@@ -324,9 +349,15 @@ class PointFusion:
         seen: dict[str, float] = {}
         fresh = len(result.candidates) - result.recalled
         taken: dict[str, np.ndarray] = {}
+        either: dict[str, float] = {}
         for obj, p in sorted(objects, key=lambda op: -op[1]):
             xyz = np.asarray(obj.xyz_m, dtype=float)
             if not np.all(np.isfinite(xyz)):
+                continue
+            within = self._within(obj, result.candidates_xyz_m)
+            if within:  # wider than one target: evidence for each hypothesis it holds, a sighting of none
+                for h in within:
+                    either[h.key] = either.get(h.key, 0.0) + p
                 continue
             h = self._home(obj, xyz, taken, result.candidates_xyz_m)
             if h is not None:
@@ -346,15 +377,19 @@ class PointFusion:
             _pool(h, obj, result.candidates)
             seen[h.key] = seen.get(h.key, 0.0) + p
         for h in self.hypotheses:
-            h.log_sum += self._log(seen[h.key]) if h.key in seen else floor
+            support = seen.get(h.key, 0.0) + either.get(h.key, 0.0)
+            h.log_sum += self._log(support) if h.key in seen or h.key in either else floor
             if h.key in seen:
                 h.best_p = max(h.best_p, seen[h.key])
         self.none_log_sum += self._log(p_none)
         part = dict(seen, **{NONE: p_none})
         leader = max(part, key=part.get)
+        if leader == NONE and p_none < max(either.values(), default=0.0):
+            leader = None  # "one of these" outweighs "none": no one led the frame
+        part = {k: part.get(k, 0.0) + either.get(k, 0.0) for k in {**part, **either}}
         if leader == NONE:
             self.none_led += 1
-        else:
+        elif leader is not None:
             next(h for h in self.hypotheses if h.key == leader).led += 1
         ev = FrameEvidence(stamp_s, result.status if arm_frames < 2 else f"{result.status}/arm{arm_frames}", part)
         self.frames.append(ev)

@@ -198,8 +198,28 @@ def test_two_placards_side_by_side_in_one_frame_are_two_hypotheses_but_a_split_p
         return [(h.key, round(float(h.xyz_m[0]), 2), round(f.frames[-1].probabilities[h.key], 2)) for h in f.hypotheses]
 
     assert hypotheses(math.inf, 0.0, 0.35) == [("o1", 0.22, 0.93)]  # the old rule: both summed
-    assert hypotheses(0.6, 0.0, 0.35) == [("o1", 0.26, 0.68), ("o2", 0.0, 0.25)]
+    assert hypotheses(0.6, 0.0, 0.35) == [("o1", 0.31, 0.68), ("o2", 0.0, 0.25)]  # the chain moved o1 once
     assert hypotheses(0.6, 0.0, 0.15, side_m=0.15) == [("o1", 0.1, 0.93)]  # two halves of one placard
+
+
+def test_two_placards_chained_into_one_object_support_both_hypotheses_and_sight_neither():
+    """A frame whose one object spans two known placards (0.65 m, over the 0.6 m widest target) says "one of
+    these": it adds its probability to both, moves neither, and leads no frame; fused as one object, it went
+    to the nearer placard alone and decided it (issue 11 session 48, two-placard scenarios)."""
+    def fused(max_extent_m: float) -> PointFusion:
+        f = PointFusion(0.3, max_extent_m=max_extent_m)
+        for _ in range(3):
+            f.add(_placards_frame([[0.35], [0.0]], [0.45, 0.4]), 0.0)
+        for _ in range(8):
+            f.add(_placards_frame([[0.0, 0.35]], [0.87]), 0.0)
+        return f
+
+    f = fused(0.6)
+    assert [(h.key, round(float(h.xyz_m[0]), 2), h.led) for h in f.hypotheses] == [("o1", 0.35, 3), ("o2", 0.0, 0)]
+    assert f.frames[-1].probabilities == pytest.approx({"o1": 0.87, "o2": 0.87, NONE: 0.13})
+    assert f.none_led == 0 and f.decide(0.9, 3).kind == "undecided"
+    old = fused(math.inf)  # the old rule: the chain is a sighting of the nearer placard
+    assert len(old.hypotheses) == 2 and old.decide(0.9, 3).kind == "object"
 
 
 def test_the_missions_fusion_takes_the_selectors_widest_target(rig):
