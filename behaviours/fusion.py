@@ -312,7 +312,7 @@ class PointFusion:
         chained into one object by the grouping. Such a frame says "one of these", so the object supports
         every hypothesis whose centre lies in its features' hull (the camera's image plane, depth within
         ``radius_m``) alike and sights none; fused as one object, it gave its whole probability to the
-        nearest placard, and the tracker the chain's centre (issue 11 session 48, two-placard scenarios).
+        nearest placard, and the tracker the chain's centre (issue 11 sessions 48-49, side_by_side_close seed 1).
         Empty also when it holds no hypothesis (it is then fused as any object).
         """
         members = np.asarray(obj.members, dtype=int)
