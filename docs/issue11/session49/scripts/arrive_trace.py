@@ -1,19 +1,14 @@
 """Trace the approach of one mission: per servo / arrive frame, the tracked object (nearest truth placard, its
-member count, centre px) and the servo errors (pixel px, range m); each state change.
+member count, centre px) and the servo errors (pixel px, range m); each state's answer.
 
     PYTHONPATH=TREE python docs/issue11/session49/scripts/arrive_trace.py SCENARIO SEED
 """
 import sys
-import numpy as np
 from behaviours import approach_states as A
-sys.path.insert(0, "docs/issue11/session47/scripts")
-from sim_tap import run_mission, tap_placards  # noqa: E402
-from sitl.scenario import load_scenario  # noqa: E402
+sys.path.insert(0, "docs/issue11/session49/scripts")
+from trace_common import near, run_mission, setup  # noqa: E402
 
-name, seed = sys.argv[1], int(sys.argv[2])
-R1 = load_scenario(name, seed).rig().R1
-last = {}
-tap_placards(last)
+name, seed, last, R1 = setup()
 
 
 def traced(cls):
@@ -22,11 +17,9 @@ def traced(cls):
 
     def seen_(self, bb, found):
         out = seen(self, bb, found)
-        truth = {p: R1 @ x for p, x in last.get("placards", {}).items()}
-        p = min(truth, key=lambda k: np.linalg.norm(truth[k] - found.xyz_m)) if truth else None
         e = bb.errors
-        print(f"t {bb.observation.stamp_s:.1f} {cls.name}: {p}({np.linalg.norm(truth[p] - found.xyz_m):.2f} m) "
-              f"n{len(found.obj.members)} px ({found.left_px[0]:.0f},{found.left_px[1]:.0f}) "
+        print(f"t {bb.observation.stamp_s:.1f} {cls.name}: {near(last, found.xyz_m, R1)} n{len(found.obj.members)} "
+              f"px ({found.left_px[0]:.0f},{found.left_px[1]:.0f}) "
               f"err {e.pixel_px:.1f} px range {e.range_m:+.3f} m -> {out}", flush=True)
         return out
 

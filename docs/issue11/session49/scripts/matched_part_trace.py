@@ -7,37 +7,27 @@ import sys
 import numpy as np
 from behaviours import tracker as T
 from dip3d_vehicle.perception.grouping import extent_m
-sys.path.insert(0, "docs/issue11/session47/scripts")
-from sim_tap import run_mission, tap_placards  # noqa: E402
-from sitl.scenario import load_scenario  # noqa: E402
+sys.path.insert(0, "docs/issue11/session49/scripts")
+from trace_common import near, run_mission, setup  # noqa: E402
 
-name, seed = sys.argv[1], int(sys.argv[2])
-R1 = load_scenario(name, seed).rig().R1
-last = {}
-tap_placards(last)
+name, seed, last, R1 = setup()
 orig = T.TargetTracker._matched_part
 
 
-def part(self, obj, first, candidates, xyz_m):
+def part(self, obj, first, candidates, xyz_m, *rest):
     """Print the replacement, if any."""
-    out = orig(self, obj, first, candidates, xyz_m)
+    out = orig(self, obj, first, candidates, xyz_m, *rest)
     if out is obj:
         return out
     members = np.asarray(obj.members)
-    matched = members[first[members] >= 0]
-    z = float(np.median(xyz_m[matched, 2]))
-    truth = {p: R1 @ x for p, x in last.get("placards", {}).items()}
-
-    def near(xyz):
-        p = min(truth, key=lambda k: np.linalg.norm(truth[k] - xyz))
-        return f"{p}({np.linalg.norm(truth[p] - xyz):.2f} m)"
+    z = float(np.median(xyz_m[members[first[members] >= 0], 2]))
 
     def width(m):
         return extent_m(candidates.left_px[np.asarray(m)], z, self.rig.focal_px)
 
-    print(f"object n{len(members)} {width(members):.2f} m at {near(np.asarray(obj.xyz_m))}, matched {len(matched)}, "
-          f"part n{len(out.members)} {width(out.members):.2f} m at {near(np.asarray(out.xyz_m))}, depth {z:.2f} m",
-          flush=True)
+    print(f"object n{len(members)} {width(members):.2f} m at {near(last, obj.xyz_m, R1)}, "
+          f"matched {int(np.sum(first[members] >= 0))}, part n{len(out.members)} {width(out.members):.2f} m at "
+          f"{near(last, out.xyz_m, R1)}, depth {z:.2f} m", flush=True)
     return out
 
 
