@@ -196,12 +196,17 @@ def _tracker_sighting(h: Hypothesis, obj: ObjectCandidate, same_frame: bool) -> 
     return not same_frame or h.obj is None or len(obj.members) > len(h.obj.members)
 
 
+def _ahead(xyz_m: np.ndarray) -> np.ndarray:
+    """Return the 3D points (camera frame, metres) with a finite position ahead of the camera."""
+    return xyz_m[np.all(np.isfinite(xyz_m), axis=1) & (xyz_m[:, 2] > 0)]
+
+
 def _across_m(xyz_m: np.ndarray) -> float:
     """Return the widest span of 3D points (camera frame, metres) across the line of sight at their median depth, m.
 
     Points with no finite position or not ahead of the camera are left out.
     """
-    pts = xyz_m[np.all(np.isfinite(xyz_m), axis=1) & (xyz_m[:, 2] > 0)]
+    pts = _ahead(xyz_m)
     if len(pts) < 2:
         return 0.0
     return extent_m(pts[:, :2] / pts[:, 2:3], float(np.median(pts[:, 2])), 1.0)
@@ -319,8 +324,7 @@ class PointFusion:
         if not math.isfinite(self.max_extent_m) or not self.hypotheses or not len(members) \
                 or members.max() >= len(points_m):
             return []
-        pts = points_m[members]
-        pts = pts[np.all(np.isfinite(pts), axis=1) & (pts[:, 2] > 0)]
+        pts = _ahead(points_m[members])
         if len(pts) < 3 or not _across_m(pts) > self.max_extent_m:
             return []
         hull = cv2.convexHull((pts[:, :2] / pts[:, 2:3]).astype(np.float32))
