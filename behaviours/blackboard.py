@@ -76,6 +76,7 @@ class BehaviourConfig:
     track_roi_object_m: float = 0.4
     track_zoom_m: float = 0.3
     track_pool_below: int = 50
+    track_neighbours: bool = True
     lost_grace_s: float = 1.0
     lost_timeout_s: float = 6.0
     servo_timeout_s: float = 90.0

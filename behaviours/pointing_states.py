@@ -63,6 +63,14 @@ def _fuse_frame(bb: Blackboard, result, direction) -> FrameEvidence | None:
     return part
 
 
+def _neighbours_m(bb: Blackboard, winner) -> np.ndarray | None:
+    """Return the fusion's other hypotheses as offsets from the winner's (camera frame, metres, (K, 3)), or None
+    when ``behaviour.track_neighbours`` is off (the tracker's known neighbours)."""
+    if not bb.config.track_neighbours:
+        return None
+    return np.array([h.xyz_m - winner.xyz_m for h in bb.fusion.hypotheses if h is not winner], float).reshape(-1, 3)
+
+
 def _tell_decision(bb: Blackboard, decision: FusedDecision) -> None:
     """Put the fused posterior, the hypotheses and each frame's part in the story (and the log)."""
     fusion = bb.fusion
@@ -210,7 +218,7 @@ class SelectTarget(_ArmWatch):
             return "nothing_there"
         w = bb.fusion.as_vote(decision.winner)
         bb.chosen = w
-        bb.tracker.start(w.obj, w.candidates, w.stamp_s, w.pool)
+        bb.tracker.start(w.obj, w.candidates, w.stamp_s, w.pool, _neighbours_m(bb, decision.winner))
         bb.target = bb.tracker.last
         xyz = ", ".join(f"{v:.2f}" for v in w.xyz_m)
         bb.say(f"target chosen at ({xyz}) m, p {decision.posterior[decision.best]:.2f} "

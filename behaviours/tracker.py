@@ -162,6 +162,21 @@ def _anchor_matches(min_matches: int) -> int:
     return max(2, min_matches // 2)
 
 
+def turn_xyz(xyz_m: np.ndarray, command: VelocityCommand | None, dt_s: float) -> np.ndarray:
+    """Turn camera-frame points or offsets (metres, (3,) or (K, 3)) by the commanded yaw over ``dt_s``.
+
+    Yaw right (positive rate) turns the scene left about the camera's vertical axis; the vehicle's
+    translation leaves offsets between two points unchanged, so this alone moves them.
+    """
+    p = np.array(xyz_m, dtype=float)
+    if command is None or dt_s <= 0 or not p.size:
+        return p
+    a = command.yaw_rate_rad_s * dt_s
+    x, z = p[..., 0].copy(), p[..., 2].copy()
+    p[..., 0], p[..., 2] = x * math.cos(a) - z * math.sin(a), x * math.sin(a) + z * math.cos(a)
+    return p
+
+
 def predict_xyz(xyz_m: np.ndarray, command: VelocityCommand | None, dt_s: float) -> np.ndarray:
     """Move a camera-frame point by the vehicle's commanded motion over ``dt_s`` (small-motion model).
 
@@ -172,12 +187,9 @@ def predict_xyz(xyz_m: np.ndarray, command: VelocityCommand | None, dt_s: float)
         >>> predict_xyz(np.array([0.0, 0.0, 2.0]), VelocityCommand(surge_m_s=0.5), 1.0).round(3).tolist()
         [0.0, 0.0, 1.5]
     """
-    p = np.asarray(xyz_m, dtype=float).copy()
+    p = turn_xyz(xyz_m, command, dt_s)
     if command is None or dt_s <= 0:
         return p
-    a = command.yaw_rate_rad_s * dt_s
-    x, z = p[0], p[2]
-    p[0], p[2] = x * math.cos(a) - z * math.sin(a), x * math.sin(a) + z * math.cos(a)
     p[0] -= command.sway_m_s * dt_s
     p[1] -= command.heave_m_s * dt_s
     p[2] -= command.surge_m_s * dt_s
@@ -205,6 +217,8 @@ class TargetTracker:
         self.misses = 0
         self.frames = 0
         self.reacquisitions = 0
+        self.neighbours_m: np.ndarray = np.zeros((0, 3))
+        self.refused = 0
 
     @property
     def active(self) -> bool:
@@ -217,12 +231,15 @@ class TargetTracker:
         return self.misses >= self.config.lost_frames
 
     def start(self, obj: ObjectCandidate, candidates: Candidates, stamp_s: float,
-              pool: list[tuple[ObjectCandidate, Candidates]] | None = None) -> None:
+              pool: list[tuple[ObjectCandidate, Candidates]] | None = None,
+              neighbours_m: np.ndarray | None = None) -> None:
         """Start tracking ``obj`` (members index into ``candidates``), seen at ``stamp_s``.
 
         ``pool``: the target's sightings over the decision's frames, (object, its frame's candidates),
         newest first; their descriptors join a model of fewer than ``pool_below`` (``pooled_model``): a
         small far target's one sighting holds a handful, and a frame of it rarely matches enough of them.
+        ``neighbours_m``: the other objects the decision knew, as offsets from the target (camera frame,
+        metres, (K, 3)); they follow the target's prediction, turned by the commanded yaw (``_refused``).
         """
         members = list(obj.members)
         desc = candidates.descriptors[members] if len(candidates.descriptors) == len(candidates) else None
@@ -236,6 +253,7 @@ class TargetTracker:
         self.last = TrackedTarget(np.asarray(obj.left_px, float), self.xyz_m, len(members), stamp_s, obj)
         self.last_seen_s = self.last_frame_s = stamp_s
         self.misses = 0
+        self.neighbours_m = np.zeros((0, 3)) if neighbours_m is None else np.asarray(neighbours_m, float).reshape(-1, 3)
 
     def rewind(self, xyz_m: np.ndarray, stamp_s: float) -> None:
         """The vehicle is back where it saw the target at ``xyz_m`` (after a zero-net manoeuvre, the nod):
@@ -270,6 +288,7 @@ class TargetTracker:
             return None
         self.frames += 1
         predicted = self.predicted_xyz(stamp_s, command)
+        self.neighbours_m = turn_xyz(self.neighbours_m, command, stamp_s - (self.last_frame_s or stamp_s))
         self.xyz_m = predicted  # dead reckoning while unseen keeps the gate centred
         self.last_frame_s = stamp_s
         found = self._find(candidates, xyz_m, predicted, stamp_s)
@@ -308,16 +327,18 @@ class TargetTracker:
         latest = np.where(first >= 0, -1, latest)
         counts = [a + _distinct(latest[m]) for a, m in zip(anchors, members)]
         distances = [float(np.linalg.norm(obj.xyz_m - predicted)) for obj in objects]
+        refused = [self._refused(obj, d, predicted, candidates) for obj, d in zip(objects, distances)]
+        self.refused += sum(refused)
         best, best_key, best_count = None, (0, 0), 0
-        for obj, anchored, count, distance in zip(objects, anchors, counts, distances):
+        for obj, anchored, count, distance, no in zip(objects, anchors, counts, distances, refused):
             # identity is anchored on the first sighting: the latest model only adds support, so one
             # wrong acceptance cannot carry the track over to a neighbouring object
-            if count < c.min_matches or anchored < _anchor_matches(c.min_matches) or distance > gate:
+            if no or count < c.min_matches or anchored < _anchor_matches(c.min_matches) or distance > gate:
                 continue
             if (anchored, count) > best_key:
                 best, best_key, best_count = obj, (anchored, count), count
         if best is None:
-            best, best_count = self._near_and_alone(objects, counts, distances, gate)
+            best, best_count = self._near_and_alone(objects, counts, distances, gate, refused)
         else:
             best = self._matched_part(best, first, candidates, xyz_m)
         if best is None:
@@ -344,20 +365,38 @@ class TargetTracker:
         part = objects_of(candidates, self.rig, [members[gap_px <= c.group_radius_px]])
         return part[0] if part else obj
 
+    def _refused(self, obj: ObjectCandidate, distance_m: float, predicted: np.ndarray, candidates: Candidates) -> bool:
+        """True when ``obj`` lies nearer one of the decision's other objects (predicted) than the target's prediction.
+
+        Such an object is that neighbour, however many descriptors it shares with the target: two placards of one
+        texture match each other's models, and a neighbour inside the gate took the track over while the target
+        was missed (issue 11 sessions 49-50, ``stacked`` seed 9). An object wider than one target (a chain
+        holding the target and a neighbour) is never refused: its matched part is the target (``_matched_part``).
+        """
+        if not len(self.neighbours_m):
+            return False
+        nearest_m = float(np.min(np.linalg.norm(predicted + self.neighbours_m - obj.xyz_m, axis=1)))
+        if nearest_m >= distance_m:
+            return False
+        depth_m = float(obj.xyz_m[2])
+        return not (depth_m > 0 and extent_m(candidates.left_px[list(obj.members)], depth_m, self.rig.focal_px)
+                    > self.config.max_extent_m)
+
     def _near_and_alone(self, objects: list[ObjectCandidate], counts: list[int], distances_m: list[float],
-                        gate_m: float) -> tuple[ObjectCandidate | None, int]:
+                        gate_m: float, refused: list[bool]) -> tuple[ObjectCandidate | None, int]:
         """Return the one object of the gate, if it lies within ``near_m`` of the prediction and matches the model.
 
         A small, faint target (a few features, found by the pointing corridor) often shares only one or two
         descriptors with its model from one frame to the next, under the count the identity test asks. Its
         position then identifies it, as long as nothing else is in the gate: the only object within ``gate_m``,
         within ``near_m`` (metres) of the prediction (``distances_m``), with at least one feature matching the
-        model (``counts``). Only while the target was seen in one of the last two frames: after a longer gap the
+        model (``counts``); an object nearer another of the decision's objects (``refused``) is that object, not a
+        second candidate. Only while the target was seen in one of the last two frames: after a longer gap the
         prediction is dead reckoning (the nod's swing drifts by decimetres) and may sit on another object.
         """
         if self.misses > 1:
             return None, 0
-        inside = [k for k, d in enumerate(distances_m) if d <= gate_m]
+        inside = [k for k, d in enumerate(distances_m) if d <= gate_m and not refused[k]]
         if len(inside) != 1 or distances_m[inside[0]] > self.config.near_m or counts[inside[0]] < 1:
             return None, 0
         return objects[inside[0]], counts[inside[0]]
