@@ -34,8 +34,8 @@ from dip3d_vehicle.perception.grouping import extent_m, group_objects, objects_o
 from dip3d_vehicle.perception.values import Candidates, ObjectCandidate
 from dip3d_vehicle.servo.command import VelocityCommand
 
-__all__ = ["TrackerConfig", "TrackedTarget", "TargetTracker", "TrackRegion", "predict_xyz", "pooled_model", "project_px",
-           "zoom_box"]
+__all__ = ["TrackerConfig", "TrackedTarget", "TargetTracker", "TrackRegion", "predict_xyz", "pooled_model",
+           "project_px", "turn_xyz", "zoom_box"]
 
 ZOOM_MARGIN_PX = 30.0
 """Margin (px) on each side of the tracker's zoom box beyond the target's projected size, doubled after a miss."""
@@ -269,7 +269,11 @@ class TargetTracker:
         """Return where the target should be at ``stamp_s`` given the commanded motion."""
         if self.xyz_m is None:
             return None
-        return predict_xyz(self.xyz_m, command, stamp_s - (self.last_frame_s or stamp_s))
+        return predict_xyz(self.xyz_m, command, self._since_frame_s(stamp_s))
+
+    def _since_frame_s(self, stamp_s: float) -> float:
+        """Return the time from the last frame to ``stamp_s`` (s; 0 before any)."""
+        return 0.0 if self.last_frame_s is None else stamp_s - self.last_frame_s
 
     def update(self, candidates: Candidates, xyz_m: np.ndarray, stamp_s: float,
                command: VelocityCommand | None = None) -> TrackedTarget | None:
@@ -288,7 +292,7 @@ class TargetTracker:
             return None
         self.frames += 1
         predicted = self.predicted_xyz(stamp_s, command)
-        self.neighbours_m = turn_xyz(self.neighbours_m, command, stamp_s - (self.last_frame_s or stamp_s))
+        self.neighbours_m = turn_xyz(self.neighbours_m, command, self._since_frame_s(stamp_s))
         self.xyz_m = predicted  # dead reckoning while unseen keeps the gate centred
         self.last_frame_s = stamp_s
         found = self._find(candidates, xyz_m, predicted, stamp_s)

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -160,6 +161,27 @@ def test_select_target_clear_winner_is_acknowledged_and_tracked(rig):
     assert m.bb.tracker.active and np.allclose(m.bb.chosen.xyz_m, [0.5, 0.0, 2.015])
     assert np.allclose(m.bb.chosen.obj.xyz_m, [0.5, 0.0, 2.03])
     assert any(isinstance(o, StatusText) and "target chosen" in o.text for o in m.bb.outbox)
+
+
+def _two_objects(target_xyz=(0.5, 0.0, 2.0), other_xyz=(0.5, -0.35, 2.0)) -> PerceptionResult:
+    """A frame whose selector gives the target 0.85 and another object 0.1."""
+    r = _result(target_xyz=target_xyz)
+    other = ObjectCandidate(np.array([1000.0, 450.0]), np.asarray(other_xyz, float), 0.02, (2,))
+    sel = replace(r.selection, objects=(r.selection.objects[0], other), scores=np.array([0.85, 0.1]), confidence=0.85)
+    return replace(r, selection=sel)
+
+
+@pytest.mark.parametrize("known", [True, False])
+def test_the_tracker_starts_with_the_decisions_other_objects_as_neighbours(rig, known):
+    """``behaviour.track_neighbours``: the fused hypotheses besides the winner go to the tracker as offsets from the
+    winner (it refuses an object nearer one of them than the target's prediction)."""
+    m = engaged_mission(rig, **{"behaviour.vote_frames": 4, "behaviour.min_votes": 3,
+                                "behaviour.track_neighbours": known})
+    enter(m, "select_target")
+    fired = feed(m, [_two_objects() for _ in range(4)])
+    assert fired[-1] == "winner" and m.bb.tracker.active
+    expected = [[0.0, -0.35, 0.0]] if known else np.zeros((0, 3))
+    np.testing.assert_allclose(m.bb.tracker.neighbours_m, expected, atol=1e-9)
 
 
 def test_select_target_split_or_ambiguous_votes_go_back_to_confirm(rig):
