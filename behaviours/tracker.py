@@ -40,6 +40,12 @@ __all__ = ["TrackerConfig", "TrackedTarget", "TargetTracker", "TrackRegion", "pr
 ZOOM_MARGIN_PX = 30.0
 """Margin (px) on each side of the tracker's zoom box beyond the target's projected size, doubled after a miss."""
 
+DRIFT_DOUBT = 2.0
+"""How far off the dead-reckoned prediction may be, as a multiple of how far it moved since its last fix. The vehicle
+lags its commands: through the acknowledge nod's yaw swings it may still turn one way while the command turns the
+other, so the prediction can be off by the commanded motion plus as much again (``side_by_side_far`` seed 6: 0.34 m
+off after a 0.25 m step, issue 11 session 50)."""
+
 POOL_MIN_DISTANCE = 200.0
 """A pooled descriptor joins the model only this far (L2, SIFT units: OpenCV's descriptors have norm ~512) from every
 descriptor already in it. Nearer, it is taken for the same feature seen again (not measured here: about 40 % of
@@ -218,6 +224,7 @@ class TargetTracker:
         self.frames = 0
         self.reacquisitions = 0
         self.neighbours_m: np.ndarray = np.zeros((0, 3))
+        self.fix_xyz_m: np.ndarray | None = None
         self.refused = 0
 
     @property
@@ -250,6 +257,7 @@ class TargetTracker:
             self._first = pooled_model(self._first, blocks, min(self.config.model_size, self.config.pool_below))
         self._latest = np.zeros((0, self._first.shape[1] if self._first.size else 128), np.float32)
         self.xyz_m = np.asarray(obj.xyz_m, dtype=float)
+        self.fix_xyz_m = self.xyz_m.copy()
         self.last = TrackedTarget(np.asarray(obj.left_px, float), self.xyz_m, len(members), stamp_s, obj)
         self.last_seen_s = self.last_frame_s = stamp_s
         self.misses = 0
@@ -261,6 +269,7 @@ class TargetTracker:
         if self.xyz_m is None:
             return
         self.xyz_m = np.asarray(xyz_m, dtype=float).copy()
+        self.fix_xyz_m = self.xyz_m.copy()
         self.last_frame_s = stamp_s
         if self.misses:
             self.misses, self.last_seen_s = 0, stamp_s
@@ -303,6 +312,7 @@ class TargetTracker:
             self.reacquisitions += 1
         self.misses = 0
         self.xyz_m = np.asarray(found.xyz_m, dtype=float)
+        self.fix_xyz_m = self.xyz_m.copy()
         self.last, self.last_seen_s = found, stamp_s
         members = list(found.obj.members)
         room = max(self.config.model_size - len(self._first), 0)
@@ -370,17 +380,22 @@ class TargetTracker:
         return part[0] if part else obj
 
     def _refused(self, obj: ObjectCandidate, distance_m: float, predicted: np.ndarray, candidates: Candidates) -> bool:
-        """True when ``obj`` lies nearer one of the decision's other objects (predicted) than the target's prediction.
+        """True when ``obj`` lies nearer one of the decision's other objects (predicted) than the target's prediction,
+        by more than ``DRIFT_DOUBT`` times what the prediction moved since its last fix (``fix_xyz_m``: the last
+        sighting, start or rewind).
 
         Such an object is that neighbour, however many descriptors it shares with the target: two placards of one
         texture match each other's models, and a neighbour inside the gate took the track over while the target
-        was missed (issue 11 sessions 49-50, ``stacked`` seed 9). An object wider than one target (a chain
-        holding the target and a neighbour) is never refused: its matched part is the target (``_matched_part``).
+        was missed (issue 11 sessions 49-50, ``stacked`` seed 9). The margin is the dead reckoning's own doubt: the
+        neighbours move with the prediction, so a prediction that swung by the offset between two placards (the
+        acknowledge nod swings it by decimetres) puts a neighbour on the target, which was then refused
+        (``side_by_side_far`` seed 6). An object wider than one target (a chain holding the target and a
+        neighbour) is never refused: its matched part is the target (``_matched_part``).
         """
         if not len(self.neighbours_m):
             return False
         nearest_m = float(np.min(np.linalg.norm(predicted + self.neighbours_m - obj.xyz_m, axis=1)))
-        if nearest_m >= distance_m:
+        if nearest_m + DRIFT_DOUBT * float(np.linalg.norm(predicted - self.fix_xyz_m)) >= distance_m:
             return False
         depth_m = float(obj.xyz_m[2])
         return not (depth_m > 0 and extent_m(candidates.left_px[list(obj.members)], depth_m, self.rig.focal_px)
