@@ -15,7 +15,8 @@ The search box of a target predicted far away holds a zoom box around it, scanne
 (``TrackRegion``, ``zoom_box``). A target too small for that count (a
 few features) is still taken when it is the only object in the gate, near the prediction, and shares a
 descriptor with the model. Lost after N frames in a row without a match; any later frame with a match
-re-acquires it.
+re-acquires it. The decision's other objects go along as offsets from the target (known neighbours): an object
+nearer one of them than the target's prediction, by more than the prediction's own doubt, is never the target.
 """
 
 from __future__ import annotations
@@ -224,8 +225,8 @@ class TargetTracker:
         self.frames = 0
         self.reacquisitions = 0
         self.neighbours_m: np.ndarray = np.zeros((0, 3))
-        self.fix_xyz_m: np.ndarray | None = None
-        self.refused = 0
+        self.fix_xyz_m: np.ndarray | None = None  # where the target was last seen (or started, or rewound)
+        self.refused = 0  # frame objects refused as a known neighbour, over the track
 
     @property
     def active(self) -> bool:
