@@ -44,8 +44,8 @@ ZOOM_MARGIN_PX = 30.0
 DRIFT_DOUBT = 2.0
 """How far off the dead-reckoned prediction may be, as a multiple of how far it moved since its last fix. The vehicle
 lags its commands: through the acknowledge nod's yaw swings it may still turn one way while the command turns the
-other, so the prediction can be off by the commanded motion plus as much again (``side_by_side_far`` seed 6: 0.34 m
-off after a 0.25 m step, issue 11 session 50)."""
+other, so the prediction can be off by the commanded motion plus as much again (``side_by_side_far`` seed 6: one
+frame after a sighting, a 0.21 m move put the prediction 0.37-0.43 m from the pointed placard, issue 11 session 50)."""
 
 POOL_MIN_DISTANCE = 200.0
 """A pooled descriptor joins the model only this far (L2, SIFT units: OpenCV's descriptors have norm ~512) from every
