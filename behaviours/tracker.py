@@ -226,7 +226,7 @@ class TargetTracker:
         self.reacquisitions = 0
         self.neighbours_m: np.ndarray = np.zeros((0, 3))
         self.fix_xyz_m: np.ndarray | None = None  # where the target was last seen (or started, or rewound)
-        self.refused = 0  # frame objects refused as a known neighbour, over the track
+        self.refused = 0  # objects inside the gate refused as a known neighbour, over the track
 
     @property
     def active(self) -> bool:
@@ -342,7 +342,8 @@ class TargetTracker:
         latest = np.where(first >= 0, -1, latest)
         counts = [a + _distinct(latest[m]) for a, m in zip(anchors, members)]
         distances = [float(np.linalg.norm(obj.xyz_m - predicted)) for obj in objects]
-        refused = [self._refused(obj, d, predicted, candidates) for obj, d in zip(objects, distances)]
+        # only an object inside the gate can be the target: only there is the neighbour rule (and its hull) asked
+        refused = [d <= gate and self._refused(obj, d, predicted, candidates) for obj, d in zip(objects, distances)]
         self.refused += sum(refused)
         best, best_key, best_count = None, (0, 0), 0
         for obj, anchored, count, distance, no in zip(objects, anchors, counts, distances, refused):
