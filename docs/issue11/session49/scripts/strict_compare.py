@@ -4,19 +4,11 @@
 
 Prints each run (file, seed) whose JSON line differs in any field, with the fields that differ.
 """
-import json, sys
+import sys
 from pathlib import Path
 
-
-def runs(folder: Path) -> dict:
-    """Return {(file, seed): run dict} for every run line under ``folder``."""
-    out = {}
-    for f in sorted(folder.rglob("*.txt")):
-        for line in f.read_text().splitlines():
-            if line.startswith('{"seed"'):
-                d = json.loads(line)
-                out[(str(f.relative_to(folder)), d["seed"])] = d
-    return out
+sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "session45" / "scripts"))
+from compare_missions import run_lines as runs  # noqa: E402  (session 45's reader of the run lines)
 
 
 after, before = runs(Path(sys.argv[1])), runs(Path(sys.argv[2]))
