@@ -18,7 +18,7 @@ from dip3d_vehicle.servo.command import VelocityCommand
 from .blackboard import Blackboard
 from .close_in import CloseInStep, horizontal_range_m, plan_close_in
 from .evidence import VoteBox, angular_spread_rad, image_direction
-from .fusion import NONE, FrameEvidence, FusedDecision, PointFusion
+from .fusion import NONE, FrameEvidence, FusedDecision, Hypothesis, PointFusion
 from .mission_state import MissionState, arm_raised, new_result
 from .second_look import LookStep, plan_second_look
 from .weak_lean import WeakLean, is_weak
@@ -63,7 +63,7 @@ def _fuse_frame(bb: Blackboard, result, direction) -> FrameEvidence | None:
     return part
 
 
-def _neighbours_m(bb: Blackboard, winner) -> np.ndarray | None:
+def _neighbours_m(bb: Blackboard, winner: Hypothesis) -> np.ndarray | None:
     """Return the fusion's other hypotheses as offsets from the winner's (camera frame, metres, (K, 3)), or None
     when ``behaviour.track_neighbours`` is off (the tracker's known neighbours)."""
     if not bb.config.track_neighbours:
