@@ -134,6 +134,7 @@ def print_outcome(result, out: Path, plots: bool = True) -> None:
              f"{result.outcome_reason}",
              f"sitl: pointed placard {result.target_id}, chosen {chosen}; the mission arrived (state done): "
              f"{'yes' if result.arrived else 'no'}{arrival}; at the end {_fmt(result.final_range_m, 'm')} from {end_of}",
+             _closest_line(result),
              f"sitl: {result.sim_time_s:.1f} s simulated in {result.wall_time_s:.1f} s",
              "sitl: wrote " + ", ".join(str(out / f) for f in ["run.mcap", "mav.tlog"] + (["trajectory.png", "final_view.png"]
                                                                              if plots else []))]
@@ -141,6 +142,16 @@ def print_outcome(result, out: Path, plots: bool = True) -> None:
     for line in lines:
         print("\n".join(textwrap.wrap(line, max(40, width), subsequent_indent="      ", break_long_words=False,
                                       break_on_hyphens=False)))
+
+
+def _closest_line(result) -> str:
+    """Return the line naming the placard (other than the pointed one) the vehicle's centre came nearest, metres."""
+    others = {pid: d for pid, d in result.closest_m.items() if pid != result.target_id}
+    if not others:
+        return "sitl: no other placard in the scene"
+    pid = min(others, key=others.get)
+    return (f"sitl: nearest the vehicle came to another placard: {others[pid]:.2f} m (placard {pid}; "
+            f"vehicle centre to its face; {result.closest_m.get(result.target_id, float('nan')):.2f} m to the pointed one)")
 
 
 def _fmt(v, unit: str) -> str:

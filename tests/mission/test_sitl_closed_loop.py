@@ -76,6 +76,9 @@ def test_paper_pool_mission_reaches_the_pointed_placard():
     assert 0.5 <= decided[0]["one_look"] <= decided[0]["posterior"] <= 1.0
     looked = decided[0]["one_look_posterior"]  # the rest of the doubt: the best other object, "nothing detected"
     assert looked[next(iter(looked))] == decided[0]["one_look"] and "none" in looked and sum(looked.values()) <= 1.0 + 1e-3
+    doc = result.to_json()  # how near the vehicle's centre came to each placard (sitl/clearance.py), metres
+    assert set(doc["closest_m"]) == {"1", "2", "3"} and doc["closest_m"]["1"] == pytest.approx(1.0 + 0.25, abs=0.3)
+    assert doc["closest_other_m"] == min(doc["closest_m"][k] for k in ("2", "3"))
 
 
 @pytest.mark.slow
