@@ -177,7 +177,8 @@ def mission_trial(args: tuple) -> dict:
             "ambiguous_round_trips": states.count("confirm_point") - 1, "nothing_there": "nothing_there" in states,
             "second_looks": states.count("second_look"), "second_look_displacement_m": _look_displacement(sim),
             "second_look_resolved": _resolved_after_look(states), "time_to_arrive_s": result.time_to_arrive_s,
-            "states": states, "decisions": list(sim.mission.bb.decided)}
+            "states": states, "decisions": list(sim.mission.bb.decided),
+            "closest_other_m": result.to_json()["closest_other_m"], "closest_m": result.to_json()["closest_m"]}
 
 
 def _look_displacement(sim) -> float:
