@@ -4,8 +4,14 @@ and settle at the stand-off (arrive). All of them run on tracking frames (``need
 
 from __future__ import annotations
 
+from dataclasses import replace
+
+import numpy as np
+from dip3d_vehicle.servo import VelocityCommand
+
 from .acknowledge import Acknowledgement
 from .blackboard import Blackboard
+from .clearance import sidestep
 from .mission_state import MissionState, track_target
 from .tracker import TrackedTarget
 
@@ -57,6 +63,8 @@ class _Steering(MissionState):
     def enter(self, bb: Blackboard) -> None:
         super().enter(bb)
         self.last_update_s: float | None = None
+        self.sway_m_s = 0.0  # the sidestep's sway in force (keep_clear), m/s
+        self.told_clear = False
 
     def timed_out(self, bb: Blackboard) -> bool:
         """Return True (and warn the pilot) once the state ran longer than ``behaviour.servo_timeout_s``."""
@@ -71,9 +79,30 @@ class _Steering(MissionState):
         stamp = bb.observation.stamp_s
         dt = stamp - self.last_update_s if self.last_update_s is not None else 0.2
         self.last_update_s = stamp
-        bb.set_command(bb.servo.update(tuple(found.left_px), float(found.xyz_m[2]), max(dt, 1e-3)))
+        command = bb.servo.update(tuple(found.left_px), float(found.xyz_m[2]), max(dt, 1e-3))
         bb.errors = bb.servo.last_errors
+        bb.set_command(self.keep_clear(bb, found, command, max(dt, 1e-3)))
         return dt
+
+    def keep_clear(self, bb: Blackboard, found: TrackedTarget, command: VelocityCommand,
+                   dt_s: float) -> VelocityCommand:
+        """Return ``command`` with a sidestep around the known object nearest the approach path (clearance.py):
+        a sway away from it, ramped by the servo's sway acceleration limit, and no advance while it is just ahead."""
+        target = np.asarray(found.xyz_m, float)
+        step = sidestep(target, target + bb.tracker.neighbours_m, bb.config.standoff_m, bb.config.servo_clearance_m,
+                        float(bb.servo.max_speed[1]))
+        want = 0.0 if step is None else step.sway_m_s
+        ramp = float(bb.servo.max_accel[1]) * dt_s
+        self.sway_m_s = float(np.clip(want, self.sway_m_s - ramp, self.sway_m_s + ramp))
+        if step is None:
+            return replace(command, sway_m_s=self.sway_m_s) if self.sway_m_s else command
+        if not self.told_clear:
+            self.told_clear = True
+            where = ", ".join(f"{v:.2f}" for v in target + bb.tracker.neighbours_m[step.index])
+            bb.say(f"an object at ({where}) m is {step.clearance_m:.2f} m from the way to the target: "
+                   f"going round it ({'left' if step.sway_m_s < 0 else 'right'})", pilot=True)
+        surge = command.surge_m_s * step.surge_factor if command.surge_m_s > 0 else command.surge_m_s
+        return replace(command, sway_m_s=self.sway_m_s, surge_m_s=surge)
 
     def tick(self, bb: Blackboard) -> str | None:
         if self.timed_out(bb):

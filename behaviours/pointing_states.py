@@ -63,11 +63,10 @@ def _fuse_frame(bb: Blackboard, result, direction) -> FrameEvidence | None:
     return part
 
 
-def _neighbours_m(bb: Blackboard, winner: Hypothesis) -> np.ndarray | None:
-    """Return the fusion's other hypotheses as offsets from the winner's (camera frame, metres, (K, 3)), or None
-    when ``behaviour.track_neighbours`` is off (the tracker's known neighbours)."""
-    if not bb.config.track_neighbours:
-        return None
+def _neighbours_m(bb: Blackboard, winner: Hypothesis) -> np.ndarray:
+    """Return the fusion's other hypotheses as offsets from the winner's (camera frame, metres, (K, 3)): the
+    tracker's known neighbours (refused as the target with ``behaviour.track_neighbours``, kept clear of by the
+    servo with ``behaviour.servo_clearance_m``)."""
     return np.array([h.xyz_m - winner.xyz_m for h in bb.fusion.hypotheses if h is not winner], float).reshape(-1, 3)
 
 

@@ -73,6 +73,7 @@ class TrackerConfig:
     pool_below: int = 50
     object_radius_m: float = 0.15
     max_extent_m: float = 0.6
+    refuse_neighbours: bool = True
 
     @classmethod
     def from_params(cls, params: Mapping) -> "TrackerConfig":
@@ -84,7 +85,8 @@ class TrackerConfig:
                    params["selection.min_object_features"], gate_max_m=params["behaviour.track_gate_max_m"],
                    near_m=params["behaviour.track_near_m"], pool_below=params["behaviour.track_pool_below"],
                    object_radius_m=params["selection.object_radius_m"],
-                   max_extent_m=params["selection.target_max_extent_m"])
+                   max_extent_m=params["selection.target_max_extent_m"],
+                   refuse_neighbours=params["behaviour.track_neighbours"])
 
 
 @dataclass(frozen=True)
@@ -394,7 +396,7 @@ class TargetTracker:
         (``side_by_side_far`` seed 6). An object wider than one target (a chain holding the target and a
         neighbour) is never refused: its matched part is the target (``_matched_part``).
         """
-        if not len(self.neighbours_m):
+        if not self.config.refuse_neighbours or not len(self.neighbours_m):
             return False
         nearest_m = float(np.min(np.linalg.norm(predicted + self.neighbours_m - obj.xyz_m, axis=1)))
         if nearest_m + DRIFT_DOUBT * float(np.linalg.norm(predicted - self.fix_xyz_m)) >= distance_m:

@@ -173,15 +173,16 @@ def _two_objects(target_xyz=(0.5, 0.0, 2.0), other_xyz=(0.5, -0.35, 2.0)) -> Per
 
 @pytest.mark.parametrize("known", [True, False])
 def test_the_tracker_starts_with_the_decisions_other_objects_as_neighbours(rig, known):
-    """``behaviour.track_neighbours``: the fused hypotheses besides the winner go to the tracker as offsets from the
-    winner (it refuses an object nearer one of them than the target's prediction)."""
+    """The fused hypotheses besides the winner go to the tracker as offsets from the winner; with
+    ``behaviour.track_neighbours`` it refuses an object nearer one of them than the target's prediction (the servo
+    keeps clear of them either way)."""
     m = engaged_mission(rig, **{"behaviour.vote_frames": 4, "behaviour.min_votes": 3,
                                 "behaviour.track_neighbours": known})
     enter(m, "select_target")
     fired = feed(m, [_two_objects() for _ in range(4)])
     assert fired[-1] == "winner" and m.bb.tracker.active
-    expected = [[0.0, -0.35, 0.0]] if known else np.zeros((0, 3))
-    np.testing.assert_allclose(m.bb.tracker.neighbours_m, expected, atol=1e-9)
+    np.testing.assert_allclose(m.bb.tracker.neighbours_m, [[0.0, -0.35, 0.0]], atol=1e-9)
+    assert m.bb.tracker.config.refuse_neighbours is known
 
 
 def test_select_target_split_or_ambiguous_votes_go_back_to_confirm(rig):
@@ -418,3 +419,22 @@ def test_evidence_helpers():
     d = box.decide(0.5, 2)
     assert d.winner is not None and d.share == 0.5 and d.empty_frames == 1
     assert box.decide(0.6, 2).winner is None
+
+
+@pytest.mark.parametrize("clearance_m", [0.6, 0.0])
+def test_the_servo_goes_round_a_known_object_beside_its_way(rig, clearance_m):
+    """``behaviour.servo_clearance_m``: a known neighbour 0.3 m right of the stand-off point sways the vehicle left,
+    ramped by the servo's sway acceleration limit and told once; with 0 the servo goes straight."""
+    m, frame = _servoing(rig, **{"behaviour.servo_clearance_m": clearance_m})
+    m.bb.tracker.neighbours_m = np.array([[0.15, 0.0, -1.0]])  # the target is at (0.3, 0, 2.0)
+    sways = []
+    for k in range(1, 6):
+        _tick_at(m, 0.2 * k, frame)
+        sways.append(m.bb.command.sway_m_s)
+    told = [s for s in m.bb.story if "going round it (left)" in s]
+    if clearance_m:
+        ramp = float(m.bb.servo.max_accel[1]) * 0.2
+        assert sways[0] == pytest.approx(-ramp) and all(b <= a for a, b in zip(sways, sways[1:])) and len(told) == 1
+        assert min(sways) >= -float(m.bb.servo.max_speed[1]) - 1e-9
+    else:
+        assert sways == [0.0] * 5 and not told
