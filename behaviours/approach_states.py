@@ -11,11 +11,15 @@ from dip3d_vehicle.servo import VelocityCommand
 
 from .acknowledge import Acknowledgement
 from .blackboard import Blackboard
-from .clearance import sidestep
+from .clearance import HULL_HALF_LENGTH_M, sidestep
 from .mission_state import MissionState, track_target
 from .tracker import TrackedTarget
 
-__all__ = ["Acknowledge", "Servo", "LostTarget", "Arrive", "within"]
+__all__ = ["Acknowledge", "Servo", "LostTarget", "Arrive", "within", "SETTLE_WINDOW_S"]
+
+SETTLE_WINDOW_S = 1.0
+"""Arrive: the range's rate is also taken over this long, s (a coasting vehicle still shows: ALT_HOLD's 0.06 m/s
+coast moves 6 cm in it, against a centimetre of stereo jitter)."""
 
 
 class Acknowledge(MissionState):
@@ -90,7 +94,7 @@ class _Steering(MissionState):
         a sway away from it, ramped by the servo's sway acceleration limit, and no advance while it is just ahead."""
         target = np.asarray(found.xyz_m, float)
         step = sidestep(target, target + bb.tracker.neighbours_m, bb.config.standoff_m, bb.config.servo_clearance_m,
-                        float(bb.servo.max_speed[1]))
+                        float(bb.servo.max_speed[1]), bb.servo.mount.forward_m + HULL_HALF_LENGTH_M)
         want = 0.0 if step is None else step.sway_m_s
         ramp = float(bb.servo.max_accel[1]) * dt_s
         self.sway_m_s = float(np.clip(want, self.sway_m_s - ramp, self.sway_m_s + ramp))
@@ -174,7 +178,9 @@ class Arrive(_Steering):
     """Centred and at the stand-off: keep correcting; done once inside tolerance and settled for the hold time.
 
     Settled: the target's range changes by less than ``behaviour.arrive_max_range_rate_m_s`` between
-    frames (in ALT_HOLD nothing brakes the vehicle horizontally: a coasting vehicle is not arrived).
+    frames, or over the last ``SETTLE_WINDOW_S`` (in ALT_HOLD nothing brakes the vehicle horizontally: a
+    coasting vehicle is not arrived). The window is for a target seen at an angle (after a sidestep,
+    ``clearance.py``), whose stereo range jitters by a centimetre from frame to frame while the vehicle stands.
     Leaving tolerance x hysteresis goes back to servo; in between, the hold time restarts.
     """
 
@@ -186,6 +192,7 @@ class Arrive(_Steering):
         super().enter(bb)
         self.last_range_m: float | None = None
         self.inside_since: float | None = None
+        self.ranges: list[tuple[float, float]] = []  # (stamp s, range m) over the last SETTLE_WINDOW_S
 
     def missed(self, bb: Blackboard) -> str | None:
         """Restart the hold time; ``lost`` once the tracker gave the target up."""
@@ -201,7 +208,7 @@ class Arrive(_Steering):
         stamp, rng = bb.observation.stamp_s, bb.errors.range_m
         rate = abs(rng - self.last_range_m) / max(dt, 1e-3) if self.last_range_m is not None else float("inf")
         self.last_range_m = rng
-        if within(bb, 1.0) and rate <= c.arrive_max_range_rate_m_s:
+        if within(bb, 1.0) and min(rate, self.window_rate(stamp, rng)) <= c.arrive_max_range_rate_m_s:
             if self.inside_since is None:
                 self.inside_since = stamp
             if stamp - self.inside_since >= c.arrive_hold_s:
@@ -209,3 +216,10 @@ class Arrive(_Steering):
         else:
             self.inside_since = None
         return None
+
+    def window_rate(self, stamp_s: float, range_m: float) -> float:
+        """Return the range's rate of change over the last ``SETTLE_WINDOW_S`` (inf until it spans 80 % of it), m/s."""
+        self.ranges = [(t, r) for t, r in self.ranges if stamp_s - t <= SETTLE_WINDOW_S + 1e-9] + [(stamp_s, range_m)]
+        t0, r0 = self.ranges[0]
+        span = stamp_s - t0
+        return abs(range_m - r0) / span if span >= 0.8 * SETTLE_WINDOW_S else float("inf")

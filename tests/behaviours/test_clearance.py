@@ -43,3 +43,13 @@ def test_the_nearest_object_decides_and_one_just_ahead_stops_the_advance():
 
 def test_no_clearance_asked_means_no_sidestep():
     assert sidestep(TARGET, [[0.0, 0.0, 1.0]], 1.0, 0.0, 0.3) is None
+
+
+def test_an_object_the_camera_has_passed_still_lies_beside_the_hull():
+    passed = [[0.3, 0.0, -0.2]]  # 0.2 m behind the camera, 0.3 m to the right
+    assert sidestep(TARGET, passed, 1.0, 0.5, 0.3) is not None  # 0.36 m from the camera itself
+    far_passed = [[0.4, 0.0, -0.4]]  # 0.57 m from the camera: clear of a path starting there...
+    assert sidestep(TARGET, far_passed, 1.0, 0.5, 0.3) is None
+    step = sidestep(TARGET, far_passed, 1.0, 0.5, 0.3, behind_m=0.5)  # ... not of the hull reaching 0.5 m back
+    assert step is not None and step.clearance_m == pytest.approx(0.4) and step.sway_m_s < 0
+    assert step.surge_factor == 1.0  # going on forward clears it: no hold for an object already passed

@@ -438,3 +438,23 @@ def test_the_servo_goes_round_a_known_object_beside_its_way(rig, clearance_m):
         assert min(sways) >= -float(m.bb.servo.max_speed[1]) - 1e-9
     else:
         assert sways == [0.0] * 5 and not told
+
+
+@pytest.mark.parametrize("step_m, held", [(0.0, True), (0.012, False)])
+def test_arrive_settles_through_a_centimetre_of_range_jitter_but_not_while_coasting(rig, step_m, held):
+    """Arrive's range rate is also taken over ``SETTLE_WINDOW_S``: a standing vehicle whose target's stereo range
+    jitters by 1 cm per frame (0.05 m/s frame to frame) is settled; one coasting at 0.06 m/s (1.2 cm per frame)
+    is not."""
+    m = engaged_mission(rig, **{"behaviour.arrive_hold_s": 1.5})
+    u, v = m.bb.servo.desired_px
+    cands, pts, obj = target_frame(rig, xyz=(0.0, 0.0, 1.0), px=(u, v))
+    m.bb.tracker.start(obj, cands, 0.0)
+    m.bb.operator_enabled = True
+    enter(m, "arrive")
+    for k in range(1, 16):  # 3 s, all inside the 0.1 m range tolerance
+        depth = 1.0 + 0.01 * (k % 2) if not step_m else 1.08 - step_m * k
+        c, p, _ = target_frame(rig, xyz=(0.0, 0.0, depth), px=(u, v))
+        _tick_at(m, 0.2 * k, TrackFrame(c, p))
+        if m.state != "arrive":
+            break
+    assert (m.state == "done") is held, m.bb.story[-3:]
