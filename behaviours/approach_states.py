@@ -178,9 +178,10 @@ class Arrive(_Steering):
     """Centred and at the stand-off: keep correcting; done once inside tolerance and settled for the hold time.
 
     Settled: the target's range changes by less than ``behaviour.arrive_max_range_rate_m_s`` between
-    frames, or over the last ``SETTLE_WINDOW_S`` (in ALT_HOLD nothing brakes the vehicle horizontally: a
-    coasting vehicle is not arrived). The window is for a target seen at an angle (after a sidestep,
-    ``clearance.py``), whose stereo range jitters by a centimetre from frame to frame while the vehicle stands.
+    frames (in ALT_HOLD nothing brakes the vehicle horizontally: a coasting vehicle is not arrived), or, with
+    the sidestep on (``behaviour.servo_clearance_m`` > 0), over the last ``SETTLE_WINDOW_S``: after a sidestep
+    the target is seen at an angle, and its stereo range jitters by a centimetre from frame to frame while the
+    vehicle stands (``clearance.py``).
     Leaving tolerance x hysteresis goes back to servo; in between, the hold time restarts.
     """
 
@@ -208,7 +209,9 @@ class Arrive(_Steering):
         stamp, rng = bb.observation.stamp_s, bb.errors.range_m
         rate = abs(rng - self.last_range_m) / max(dt, 1e-3) if self.last_range_m is not None else float("inf")
         self.last_range_m = rng
-        if within(bb, 1.0) and min(rate, self.window_rate(stamp, rng)) <= c.arrive_max_range_rate_m_s:
+        if c.servo_clearance_m > 0:  # a sidestep may leave the target seen at an angle
+            rate = min(rate, self.window_rate(stamp, rng))
+        if within(bb, 1.0) and rate <= c.arrive_max_range_rate_m_s:
             if self.inside_since is None:
                 self.inside_since = stamp
             if stamp - self.inside_since >= c.arrive_hold_s:
