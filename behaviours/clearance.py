@@ -19,12 +19,11 @@ and lies ahead of the camera by at most ``clearance_m`` along the path, the vehi
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["HULL_HALF_LENGTH_M", "Sidestep", "approach_end_m", "sidestep"]
+__all__ = ["HULL_HALF_LENGTH_M", "Sidestep", "approach_end_m", "distance_to_path_m", "sidestep"]
 
 GAIN_PER_S = 1.0
 """Sway speed per metre of missing clearance, 1/s (capped by the servo's sway limit)."""
@@ -57,7 +56,7 @@ def approach_end_m(target_xyz, standoff_m: float) -> np.ndarray:
     return t * max(rng - standoff_m, 0.0) / rng if rng > 1e-9 else np.zeros(3)
 
 
-def _distance_to_path_m(points: np.ndarray, start: np.ndarray, end: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def distance_to_path_m(points: np.ndarray, start: np.ndarray, end: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Return each point's distance from the segment ``start`` -> ``end`` and its nearest point's distance along
     it from ``start``, metres."""
     d = end - start
@@ -89,12 +88,12 @@ def sidestep(target_xyz, objects_xyz, standoff_m: float, clearance_m: float, max
         0.0
     """
     objects = np.asarray(objects_xyz, float).reshape(-1, 3)
-    objects = objects[np.all(np.isfinite(objects), axis=1)] if len(objects) else objects
+    objects = objects[np.all(np.isfinite(objects), axis=1)]
     if clearance_m <= 0 or not len(objects):
         return None
     end = approach_end_m(target_xyz, standoff_m)
     start = np.array([0.0, 0.0, -behind_m])
-    dist, along = _distance_to_path_m(objects, start, end)
+    dist, along = distance_to_path_m(objects, start, end)
     k = int(np.argmin(dist))
     if dist[k] >= clearance_m:
         return None
@@ -105,4 +104,4 @@ def sidestep(target_xyz, objects_xyz, standoff_m: float, clearance_m: float, max
     ahead_m = float(objects[k] @ u)  # along the path from the camera (negative: beside the hull, already passed)
     close_ahead = 0.0 <= ahead_m <= clearance_m
     factor = 1.0 if not close_ahead else float(np.clip((dist[k] - clearance_m / 2) / (clearance_m / 2), 0.0, 1.0))
-    return Sidestep(float(sway), factor if math.isfinite(factor) else 0.0, float(dist[k]), k)
+    return Sidestep(float(sway), factor, float(dist[k]), k)

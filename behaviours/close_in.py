@@ -33,6 +33,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .clearance import distance_to_path_m
 from .second_look import _in_view
 
 __all__ = ["CloseInStep", "horizontal_range_m", "path_clearance_m", "elevation_rad", "plan_close_in"]
@@ -76,10 +77,7 @@ def path_clearance_m(points_xyz, end_xyz) -> float:
     pts = np.asarray(points_xyz, float).reshape(-1, 3)
     if len(pts) == 0:
         return math.inf
-    end = np.asarray(end_xyz, float)
-    length2 = float(end @ end)
-    t = np.clip(pts @ end / length2, 0.0, 1.0) if length2 > 0 else np.zeros(len(pts))
-    return float(np.min(np.linalg.norm(pts - t[:, None] * end, axis=1)))
+    return float(np.min(distance_to_path_m(pts, np.zeros(3), np.asarray(end_xyz, float))[0]))
 
 
 def _path_in_view(points: np.ndarray, end: np.ndarray, focal_px: float, principal_px: tuple[float, float],

@@ -168,6 +168,7 @@ def mission_trial(args: tuple) -> dict:
     outcome = ("wrong" if result.chosen_id is not None and result.chosen_id != result.target_id and
                "acknowledge" in states else "arrived" if result.reached else "abstained")
     first = sim.mission.bb.decided[0] if sim.mission.bb.decided else None
+    doc = result.to_json()
     return {"seed": seed, "position": result.diver_position, "target_id": result.target_id,
             "chosen_id": result.chosen_id, "outcome": outcome, "arrived": result.arrived,
             "time_to_decision_s": None if decided is None else round(decided - raised, 2),
@@ -178,7 +179,7 @@ def mission_trial(args: tuple) -> dict:
             "second_looks": states.count("second_look"), "second_look_displacement_m": _look_displacement(sim),
             "second_look_resolved": _resolved_after_look(states), "time_to_arrive_s": result.time_to_arrive_s,
             "states": states, "decisions": list(sim.mission.bb.decided),
-            "closest_other_m": result.to_json()["closest_other_m"], "closest_m": result.to_json()["closest_m"]}
+            "closest_other_m": doc["closest_other_m"], "closest_m": doc["closest_m"]}
 
 
 def _look_displacement(sim) -> float:
