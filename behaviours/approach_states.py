@@ -11,7 +11,7 @@ from dip3d_vehicle.servo import VelocityCommand
 
 from .acknowledge import Acknowledgement
 from .blackboard import Blackboard
-from .clearance import HULL_HALF_LENGTH_M, sidestep
+from .clearance import HULL_HALF_LENGTH_M, Sidestep, sidestep
 from .mission_state import MissionState, track_target
 from .tracker import TrackedTarget
 
@@ -68,7 +68,9 @@ class _Steering(MissionState):
         super().enter(bb)
         self.last_update_s: float | None = None
         self.sway_m_s = 0.0  # the sidestep's sway in force (keep_clear), m/s
-        self.told_clear = False
+        self.offset_m = 0.0  # the way's stand-off point's lateral offset from the camera, m
+        self.side = 0.0  # the side of the way chosen last (its sign; 0: none yet)
+        self.told: tuple | None = None  # (side, clear) last said
 
     def timed_out(self, bb: Blackboard) -> bool:
         """Return True (and warn the pilot) once the state ran longer than ``behaviour.servo_timeout_s``."""
@@ -90,23 +92,40 @@ class _Steering(MissionState):
 
     def keep_clear(self, bb: Blackboard, found: TrackedTarget, command: VelocityCommand,
                    dt_s: float) -> VelocityCommand:
-        """Return ``command`` with a sidestep around the known object nearest the approach path (clearance.py):
-        a sway away from it, ramped by the servo's sway acceleration limit, and no advance while it is just ahead."""
+        """Return ``command`` following the way round the known objects (clearance.py): a sway toward the way's
+        stand-off point, ramped by the servo's sway acceleration limit, and no faster advance than keeps to it."""
         target = np.asarray(found.xyz_m, float)
         step = sidestep(target, target + bb.tracker.neighbours_m, bb.config.standoff_m, bb.config.servo_clearance_m,
-                        float(bb.servo.max_speed[1]), bb.servo.mount.forward_m + HULL_HALF_LENGTH_M)
+                        float(bb.servo.max_speed[1]), bb.servo.mount.forward_m + HULL_HALF_LENGTH_M, self.side)
         want = 0.0 if step is None else step.sway_m_s
         ramp = float(bb.servo.max_accel[1]) * dt_s
         self.sway_m_s = float(np.clip(want, self.sway_m_s - ramp, self.sway_m_s + ramp))
+        self.offset_m = 0.0 if step is None else step.offset_m
         if step is None:
             return replace(command, sway_m_s=self.sway_m_s) if self.sway_m_s else command
-        if not self.told_clear:
-            self.told_clear = True
-            where = ", ".join(f"{v:.2f}" for v in target + bb.tracker.neighbours_m[step.index])
-            bb.say(f"an object at ({where}) m is {step.clearance_m:.2f} m from the way to the target: "
-                   f"going round it ({'left' if step.sway_m_s < 0 else 'right'})", pilot=True)
-        surge = command.surge_m_s * step.surge_factor if command.surge_m_s > 0 else command.surge_m_s
+        self.tell_way(bb, target, step)
+        surge = command.surge_m_s
+        if surge > 0:
+            surge = min(surge * step.surge_factor, step.max_surge_m_s)
         return replace(command, sway_m_s=self.sway_m_s, surge_m_s=surge)
+
+    def tell_way(self, bb: Blackboard, target: np.ndarray, step: Sidestep) -> None:
+        """Say the way taken when its side (or whether it is clear) changes."""
+        side = 1.0 if step.way.angle_rad > 0 else -1.0
+        told = (side, step.clear)
+        self.side = side
+        if told == self.told:
+            return
+        self.told = told
+        where = ", ".join(f"{v:.2f}" for v in target + bb.tracker.neighbours_m[step.way.index])
+        turn = f"{abs(np.degrees(step.way.angle_rad)):.0f} deg {'right' if side > 0 else 'left'}"
+        if step.clear:
+            bb.say(f"an object at ({where}) m is in the way to the target: going round, the stand-off turned {turn} "
+                   f"about the target", pilot=True)
+        else:
+            bb.say(f"no way to the target keeps {bb.config.servo_clearance_m:.2f} m from every object: the clearest "
+                   f"(stand-off turned {turn}) passes {step.way.clearance_m:.2f} m from the object at ({where}) m; "
+                   f"holding short of it", "warning", pilot=True)
 
     def tick(self, bb: Blackboard) -> str | None:
         if self.timed_out(bb):
@@ -211,7 +230,8 @@ class Arrive(_Steering):
         self.last_range_m = rng
         if c.servo_clearance_m > 0:  # a sidestep may leave the target seen at an angle
             rate = min(rate, self.window_rate(stamp, rng))
-        if within(bb, 1.0) and rate <= c.arrive_max_range_rate_m_s:
+        on_way_end = abs(self.offset_m) <= c.arrive_tolerance_m  # a way round objects ends turned about the target
+        if within(bb, 1.0) and rate <= c.arrive_max_range_rate_m_s and on_way_end:
             if self.inside_since is None:
                 self.inside_since = stamp
             if stamp - self.inside_since >= c.arrive_hold_s:

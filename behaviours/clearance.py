@@ -1,52 +1,102 @@
-"""Keeping clear of the other objects on the way to the target: a sidestep around them, and a slower approach.
+"""Keeping clear of the other objects on the way to the target: a way round them, planned on every frame.
 
 The servo drives the camera straight at the target and stops ``standoff_m`` before it. Any object
 the diver did not point at that lies near that straight path, or beside the stand-off point, is in
 the vehicle's way: in the paper's own set-up (placards at 1, 2 and 3 m along a line) the stand-off
 point before placard 2 lies 0.23 m from placard 1, and the simulator measured the vehicle's centre
-passing 0.27 m from its face (``sitl --json``'s ``closest_other_m``).
+passing 0.26 m from its face (``sitl --json``'s ``closest_other_m``).
 
 The objects are the decision's other hypotheses (the tracker's known neighbours: offsets from the
 target, turned by the commanded yaw), so they are remembered after they leave the image. Geometry
-in the rectified left camera frame (x right, y down, z forward, metres), as ``close_in.py``: the
-path is the straight segment from the hull's rear (``behind_m`` behind the camera: an object the
-camera has passed still lies beside the hull) to the stand-off point. When an object lies nearer
-that path than ``clearance_m``, the vehicle sways away from it (the yaw keeps the target centred, so
-the vehicle turns about the target and the stand-off point moves off the object) at
-``gain_per_s`` times the missing clearance; and while the object is nearer than half the clearance
-and lies ahead of the camera by at most ``clearance_m`` along the path, the vehicle does not advance.
+in the rectified left camera frame (x right, y down, z forward, metres), as ``close_in.py``.
+
+The way: the stand-off point may be turned about the target (about the camera's vertical axis, in
+``ORBIT_STEP_RAD`` steps up to ``MAX_ORBIT_RAD`` either side), so the vehicle ends at the stand-off
+but looking at the target from the side. A way is the straight segment from the hull's rear
+(``behind_m`` behind the camera: an object the camera has passed still lies beside the hull) to its
+stand-off point; its clearance is the least distance of any object from it. The direct way is kept
+when it is clear; otherwise the least turn whose way is clear, weighing every object at once (two
+objects on either side of a gap are one constraint, not two pushes); when no turn is clear, the
+clearest. The plan is made again on every frame from where the vehicle is (a receding horizon), and
+keeps to the side it chose unless only the other side is clear.
+
+Following the way: the vehicle sways toward the way's stand-off point at ``gain_per_s`` times its
+lateral offset (capped by the servo's sway limit; the yaw keeps the target centred, so the vehicle
+turns about the target) and advances no faster than the sway would carry it there along the straight
+way. When no way is clear it does not advance while the nearest object is nearer than half the
+clearance and lies ahead of the camera by at most ``clearance_m`` (it holds short).
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["HULL_HALF_LENGTH_M", "Sidestep", "approach_end_m", "distance_to_path_m", "sidestep"]
+__all__ = ["HULL_HALF_LENGTH_M", "MAX_ORBIT_RAD", "ORBIT_STEP_RAD", "Sidestep", "Way", "approach_end_m",
+           "distance_to_path_m", "orbit_end_m", "plan_way", "sidestep"]
 
 GAIN_PER_S = 1.0
-"""Sway speed per metre of missing clearance, 1/s (capped by the servo's sway limit)."""
+"""Sway speed per metre of lateral offset from the way's stand-off point, 1/s (capped by the servo's sway limit)."""
 
 HULL_HALF_LENGTH_M = 0.25
 """How far the hull reaches behind the vehicle's reference point, m (a BlueROV2 is 0.457 m long)."""
 
+ORBIT_STEP_RAD = math.radians(5.0)
+"""The turns of the stand-off point about the target that are tried, in steps of this, rad."""
+
+MAX_ORBIT_RAD = math.radians(60.0)
+"""The largest turn of the stand-off point about the target, either side, rad (the target is then seen at 60 deg
+off its face's line from the start; further round, a flat placard's texture is hard to track)."""
+
+SIDE_PREFERENCE_RAD = math.radians(10.0)
+"""A clear way on the side chosen before wins over one on the other side turned up to this much less, rad."""
+
+
+@dataclass(frozen=True)
+class Way:
+    """A way to the target (camera frame, metres).
+
+    Attributes:
+        angle_rad: the stand-off point's turn about the target (positive: it lies to the right).
+        end_xyz: where the camera ends, ``standoff_m`` from the target.
+        clearance_m: the distance from the way of the object that falls most short of the clearance asked, m.
+        index: which object (row of the objects given) that is.
+        along_m: that object's nearest point on the way, m along it from its start.
+        margin_m: how much further from the way than asked the object that falls most short is, m (>= 0: clear).
+    """
+
+    angle_rad: float
+    end_xyz: np.ndarray
+    clearance_m: float
+    index: int
+    along_m: float
+    margin_m: float
+
 
 @dataclass(frozen=True)
 class Sidestep:
-    """How to keep clear of the nearest object in the way (camera frame, metres; body sway, m/s).
+    """How to follow a way round the objects (body sway, m/s; a factor on the servo's forward surge).
 
     Attributes:
-        sway_m_s: the sway to add (positive = right), m/s.
-        surge_factor: what the servo's forward surge is multiplied by (1 = unchanged, 0 = no advance).
-        clearance_m: the nearest object's distance from the path, m.
-        index: which object (row of the objects given) is in the way.
+        sway_m_s: the sway to command (positive = right), m/s.
+        max_surge_m_s: the most forward surge that keeps to the way (the sway's pace along it), m/s.
+        surge_factor: what the servo's forward surge is multiplied by (1 = unchanged, 0 = holding short).
+        way: the way followed.
+        clear: True when the way keeps every object ``clearance_m`` away.
     """
 
     sway_m_s: float
+    max_surge_m_s: float
     surge_factor: float
-    clearance_m: float
-    index: int
+    way: Way
+    clear: bool
+
+    @property
+    def offset_m(self) -> float:
+        """The way's stand-off point's lateral offset from the camera, m (positive: right)."""
+        return float(self.way.end_xyz[0])
 
 
 def approach_end_m(target_xyz, standoff_m: float) -> np.ndarray:
@@ -54,6 +104,23 @@ def approach_end_m(target_xyz, standoff_m: float) -> np.ndarray:
     t = np.asarray(target_xyz, float)
     rng = float(np.linalg.norm(t))
     return t * max(rng - standoff_m, 0.0) / rng if rng > 1e-9 else np.zeros(3)
+
+
+def orbit_end_m(target_xyz, standoff_m: float, angle_rad: float) -> np.ndarray:
+    """Return the stand-off point turned ``angle_rad`` about the target's vertical (positive: to the right), metres.
+
+    Examples:
+        >>> np.round(orbit_end_m([0.0, 0.0, 2.0], 1.0, math.radians(90)), 3).tolist()  # beside the target
+        [1.0, 0.0, 2.0]
+    """
+    t = np.asarray(target_xyz, float)
+    rng = float(np.linalg.norm(t))
+    if rng <= standoff_m or rng < 1e-9:
+        return approach_end_m(t, standoff_m)
+    u = t / rng
+    c, s = math.cos(angle_rad), math.sin(angle_rad)
+    turned = np.array([u[0] * c - u[2] * s, u[1], u[0] * s + u[2] * c])
+    return t - standoff_m * turned
 
 
 def distance_to_path_m(points: np.ndarray, start: np.ndarray, end: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -67,41 +134,92 @@ def distance_to_path_m(points: np.ndarray, start: np.ndarray, end: np.ndarray) -
     return np.linalg.norm(points - start - along[:, None] * (d / length), axis=1), along
 
 
-def sidestep(target_xyz, objects_xyz, standoff_m: float, clearance_m: float, max_sway_m_s: float,
-             behind_m: float = 0.0, gain_per_s: float = GAIN_PER_S) -> Sidestep | None:
-    """Return the sidestep around the object nearest the approach path, or None when every object is clear.
+def _angles(side: float) -> list[float]:
+    """Return the turns to try, 0 first, then by size with ``side``'s sign first at each size, rad."""
+    first = 1.0 if side >= 0 else -1.0
+    steps = int(round(MAX_ORBIT_RAD / ORBIT_STEP_RAD))
+    return [0.0] + [sign * k * ORBIT_STEP_RAD for k in range(1, steps + 1) for sign in (first, -first)]
+
+
+def _way(target: np.ndarray, objects: np.ndarray, standoff_m: float, start: np.ndarray, angle: float,
+         needed: np.ndarray) -> Way:
+    """Return the way whose stand-off point is turned ``angle`` about the target (``needed``: each object's
+    clearance asked, m)."""
+    end = orbit_end_m(target, standoff_m, angle)
+    dist, along = distance_to_path_m(objects, start, end)
+    k = int(np.argmin(dist - needed))
+    return Way(angle, end, float(dist[k]), k, float(along[k]), float(dist[k] - needed[k]))
+
+
+def plan_way(target_xyz, objects_xyz, standoff_m: float, clearance_m: float, behind_m: float = 0.0,
+             side: float = 0.0) -> Way | None:
+    """Return the way to take round the objects, or None when the direct way is clear (or no clearance is asked).
+
+    An object already nearer the hull's rear than ``clearance_m`` (beside the hull) can be kept no further than it
+    is: the way is clear of it when it passes no nearer than that.
 
     Args:
         target_xyz: the target (camera frame, metres).
         objects_xyz: the other objects, (K, 3) (camera frame, metres).
-        standoff_m: the servo's stand-off (the approach ends this far before the target).
-        clearance_m: how far from the path every object must stay (0: never sidestep).
-        max_sway_m_s: the sway limit, m/s.
-        behind_m: how far the hull reaches behind the camera (the path starts there), m.
-        gain_per_s: sway speed per metre of missing clearance, 1/s.
+        standoff_m: the servo's stand-off (the way ends this far from the target).
+        clearance_m: how far from the way every object must stay (0: always the direct way).
+        behind_m: how far the hull reaches behind the camera (the way starts there), m.
+        side: the side chosen before (its sign; 0: none): its clear ways win over the other side's turned up to
+            ``SIDE_PREFERENCE_RAD`` less.
+
+    Returns:
+        The least turned clear way; when none is clear, the one that falls least short (ties: the least turned).
 
     Examples:
-        >>> s = sidestep([0.0, 0.0, 2.0], [[0.2, 0.0, 1.0]], 1.0, 0.5, 0.3)  # right of the stand-off point
-        >>> round(s.sway_m_s, 2), s.surge_factor, round(s.clearance_m, 2)  # sway left, still advancing
-        (-0.3, 1.0, 0.2)
-        >>> sidestep([0.0, 0.0, 2.0], [[0.2, 0.0, 0.3]], 1.0, 0.5, 0.3).surge_factor  # just ahead: no advance
-        0.0
+        >>> way = plan_way([0.0, 0.0, 2.0], [[0.1, 0.0, 1.0]], 1.0, 0.5)  # just right of the stand-off point
+        >>> way.angle_rad < 0, way.clearance_m >= 0.5  # ends turned to the left, clear
+        (True, True)
     """
     objects = np.asarray(objects_xyz, float).reshape(-1, 3)
     objects = objects[np.all(np.isfinite(objects), axis=1)]
     if clearance_m <= 0 or not len(objects):
         return None
-    end = approach_end_m(target_xyz, standoff_m)
+    target = np.asarray(target_xyz, float)
     start = np.array([0.0, 0.0, -behind_m])
-    dist, along = distance_to_path_m(objects, start, end)
-    k = int(np.argmin(dist))
-    if dist[k] >= clearance_m:
+    needed = np.minimum(clearance_m, np.linalg.norm(objects - start, axis=1) - 1e-6)
+    ways = [_way(target, objects, standoff_m, start, a, needed) for a in _angles(side)]
+    if ways[0].margin_m >= 0:
         return None
-    u = (end - start) / max(float(np.linalg.norm(end - start)), 1e-9)
-    side = objects[k] - start - along[k] * u  # the object's offset from its nearest point on the path
-    away = -1.0 if side[0] > 0 else 1.0  # on the path itself (x 0): to the left, away from the right-hand side
-    sway = away * min(gain_per_s * (clearance_m - float(dist[k])), max_sway_m_s)
-    ahead_m = float(objects[k] @ u)  # along the path from the camera (negative: beside the hull, already passed)
-    close_ahead = 0.0 <= ahead_m <= clearance_m
-    factor = 1.0 if not close_ahead else float(np.clip((dist[k] - clearance_m / 2) / (clearance_m / 2), 0.0, 1.0))
-    return Sidestep(float(sway), factor, float(dist[k]), k)
+    clear = [w for w in ways if w.margin_m >= 0]
+    if not clear:
+        return max(ways, key=lambda w: (round(w.margin_m, 3), -abs(w.angle_rad)))
+
+    def cost(w: Way) -> float:
+        """The turn, plus the preference's worth when on the side not chosen before, rad."""
+        return abs(w.angle_rad) + (SIDE_PREFERENCE_RAD if side and w.angle_rad * side < 0 else 0.0)
+    return min(clear, key=cost)
+
+
+def sidestep(target_xyz, objects_xyz, standoff_m: float, clearance_m: float, max_sway_m_s: float,
+             behind_m: float = 0.0, side: float = 0.0, gain_per_s: float = GAIN_PER_S) -> Sidestep | None:
+    """Return how to follow the way round the objects (``plan_way``), or None when the direct way is clear.
+
+    Args:
+        target_xyz, objects_xyz, standoff_m, clearance_m, behind_m, side: as ``plan_way``.
+        max_sway_m_s: the sway limit, m/s.
+        gain_per_s: sway speed per metre of lateral offset from the way's stand-off point, 1/s.
+
+    Examples:
+        >>> s = sidestep([0.0, 0.0, 2.0], [[0.1, 0.0, 1.0]], 1.0, 0.5, 0.3)  # just right of the stand-off point
+        >>> s.sway_m_s < 0, s.clear  # sway left, round it
+        (True, True)
+    """
+    way = plan_way(target_xyz, objects_xyz, standoff_m, clearance_m, behind_m, side)
+    if way is None:
+        return None
+    lateral = float(way.end_xyz[0])
+    sway = float(np.clip(gain_per_s * lateral, -max_sway_m_s, max_sway_m_s))
+    forward = float(way.end_xyz[2])  # still to go forward, m (the camera's axis)
+    max_surge = math.inf if abs(lateral) < 0.02 else abs(sway) * max(forward, 0.0) / abs(lateral)
+    clear = way.margin_m >= 0
+    factor = 1.0
+    if not clear:  # no way is clear: hold short of an object just ahead
+        ahead_m = way.along_m - behind_m
+        if 0.0 <= ahead_m <= clearance_m:
+            factor = float(np.clip((way.clearance_m - clearance_m / 2) / (clearance_m / 2), 0.0, 1.0))
+    return Sidestep(sway, max_surge, factor, way, clear)

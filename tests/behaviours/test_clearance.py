@@ -2,10 +2,13 @@
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import pytest
 
-from behaviours.clearance import approach_end_m, sidestep
+from behaviours.clearance import (MAX_ORBIT_RAD, approach_end_m, distance_to_path_m, orbit_end_m, plan_way,
+                                  sidestep)
 
 TARGET = [0.0, 0.0, 2.0]  # 2 m ahead; with a 1 m stand-off the approach ends 1 m ahead
 
@@ -15,6 +18,16 @@ def test_the_approach_ends_the_stand_off_before_the_target_on_its_line_of_sight(
     np.testing.assert_allclose(approach_end_m([0.0, 0.0, 0.5], 1.0), [0.0, 0.0, 0.0])  # already nearer
 
 
+@pytest.mark.parametrize("target", [TARGET, [0.7, -0.2, 2.5]])
+def test_a_turned_stand_off_point_stays_the_stand_off_from_the_target(target):
+    np.testing.assert_allclose(orbit_end_m(target, 1.0, 0.0), approach_end_m(target, 1.0))
+    for deg in (-60, -20, 15, 45):
+        end = orbit_end_m(target, 1.0, math.radians(deg))
+        assert np.linalg.norm(np.asarray(target) - end) == pytest.approx(1.0)
+        assert end[1] == pytest.approx(approach_end_m(target, 1.0)[1])  # turned about the vertical: same height
+    assert orbit_end_m(TARGET, 1.0, 0.3)[0] > 0 > orbit_end_m(TARGET, 1.0, -0.3)[0]  # positive: to the right
+
+
 @pytest.mark.parametrize("objects", [
     np.zeros((0, 3)),
     [[0.8, 0.0, 1.0]],            # 0.8 m beside the stand-off point
@@ -22,34 +35,67 @@ def test_the_approach_ends_the_stand_off_before_the_target_on_its_line_of_sight(
     [[0.0, 0.0, 3.5]],            # behind the target
     [[np.nan, 0.0, 1.0]],         # no position
 ])
-def test_objects_clear_of_the_approach_need_no_sidestep(objects):
+def test_objects_clear_of_the_direct_way_need_no_sidestep(objects):
+    assert plan_way(TARGET, objects, 1.0, 0.6) is None
     assert sidestep(TARGET, objects, 1.0, 0.6, 0.3) is None
 
 
-@pytest.mark.parametrize("x, away", [(0.2, -1.0), (-0.2, 1.0), (0.0, 1.0)])
-def test_an_object_beside_the_path_sways_the_vehicle_away_from_it(x, away):
+def test_no_clearance_asked_means_the_direct_way():
+    assert plan_way(TARGET, [[0.0, 0.0, 1.0]], 1.0, 0.0) is None
+
+
+@pytest.mark.parametrize("x", [0.2, -0.2])
+def test_an_object_beside_the_stand_off_point_turns_the_way_to_the_other_side(x):
+    way = plan_way(TARGET, [[x, 0.0, 1.0]], 1.0, 0.6)
+    assert way is not None and np.sign(way.angle_rad) == -np.sign(x) and way.clearance_m >= 0.6
+    smaller = plan_way(TARGET, [[x, 0.0, 1.0]], 1.0, 0.6, side=-np.sign(x))
+    assert smaller.angle_rad == way.angle_rad  # the least turn that is clear
+    dist, _ = distance_to_path_m(np.array([[x, 0.0, 1.0]]), np.zeros(3),
+                                 orbit_end_m(TARGET, 1.0, way.angle_rad - np.sign(way.angle_rad) * math.radians(5)))
+    assert dist[0] < 0.6  # one step less would not be clear
     step = sidestep(TARGET, [[x, 0.0, 1.0]], 1.0, 0.6, 0.3)
-    assert step is not None and step.clearance_m == pytest.approx(abs(x))
-    assert np.sign(step.sway_m_s) == away and abs(step.sway_m_s) == pytest.approx(min(0.6 - abs(x), 0.3))
-    assert step.surge_factor == 1.0  # 1 m ahead: time to go round it while advancing
+    assert step.clear and np.sign(step.sway_m_s) == -np.sign(x) and abs(step.sway_m_s) <= 0.3
+    assert step.surge_factor == 1.0
 
 
-def test_the_nearest_object_decides_and_one_just_ahead_stops_the_advance():
-    step = sidestep(TARGET, [[0.5, 0.0, 1.0], [-0.1, 0.0, 0.3]], 1.0, 0.6, 0.3)
-    assert step.index == 1 and step.sway_m_s > 0 and step.surge_factor == 0.0
-    half = sidestep(TARGET, [[0.45, 0.0, 0.3]], 1.0, 0.6, 0.3)  # 0.3 ahead, 0.45 off: half the way to clear
-    assert half.surge_factor == pytest.approx(0.5) and half.sway_m_s == pytest.approx(-0.15)
+def test_the_way_weighs_every_object_at_once():
+    """An object just right of the way and one further left: going away from the nearest alone (left) would end
+    beside the other. The clearance of the way is the least over both, and the way goes right, round the nearest."""
+    objects = np.array([[0.1, 0.0, 1.2], [-0.5, 0.0, 1.4]])
+    way = plan_way(TARGET, objects, 1.0, 0.4)
+    dist, _ = distance_to_path_m(objects, np.zeros(3), way.end_xyz)
+    assert way.clearance_m == pytest.approx(dist.min())
+    assert way.clearance_m >= 0.4 and way.angle_rad > 0
 
 
-def test_no_clearance_asked_means_no_sidestep():
-    assert sidestep(TARGET, [[0.0, 0.0, 1.0]], 1.0, 0.0, 0.3) is None
+def test_the_side_chosen_before_is_kept_while_it_is_clear():
+    ahead = [[0.0, 0.0, 1.0]]  # on the direct way: either side is as good
+    assert plan_way(TARGET, ahead, 1.0, 0.6, side=1.0).angle_rad > 0
+    assert plan_way(TARGET, ahead, 1.0, 0.6, side=-1.0).angle_rad < 0
+    only_left = [[0.0, 0.0, 1.0], [0.9, 0.0, 1.4]]  # the right side is blocked too: the left is taken anyway
+    assert plan_way(TARGET, only_left, 1.0, 0.6, side=1.0).angle_rad < 0
+
+
+def test_with_no_clear_way_the_clearest_is_taken_and_the_vehicle_holds_short():
+    walled = np.array([[x, 0.0, 0.35] for x in np.arange(-1.5, 1.51, 0.25)])  # a row of objects just ahead
+    step = sidestep(TARGET, walled, 1.0, 0.6, 0.3)
+    assert not step.clear and step.way.clearance_m < 0.3 and step.surge_factor == 0.0
+    assert abs(step.way.angle_rad) <= MAX_ORBIT_RAD + 1e-9
+
+
+def test_the_advance_keeps_to_the_straight_way():
+    """Forward surge is capped at the sway's pace along the way: the vehicle reaches the way's stand-off point's
+    side and its range together, not the stand-off range first."""
+    step = sidestep([0.0, 0.0, 3.0], [[0.05, 0.0, 2.0]], 1.0, 0.6, 0.3)
+    lateral, forward = step.way.end_xyz[0], step.way.end_xyz[2]
+    assert step.max_surge_m_s == pytest.approx(abs(step.sway_m_s) * forward / abs(lateral))
+    assert step.offset_m == pytest.approx(lateral)
 
 
 def test_an_object_the_camera_has_passed_still_lies_beside_the_hull():
-    passed = [[0.3, 0.0, -0.2]]  # 0.2 m behind the camera, 0.3 m to the right
-    assert sidestep(TARGET, passed, 1.0, 0.5, 0.3) is not None  # 0.36 m from the camera itself
-    far_passed = [[0.4, 0.0, -0.4]]  # 0.57 m from the camera: clear of a path starting there...
-    assert sidestep(TARGET, far_passed, 1.0, 0.5, 0.3) is None
-    step = sidestep(TARGET, far_passed, 1.0, 0.5, 0.3, behind_m=0.5)  # ... not of the hull reaching 0.5 m back
-    assert step is not None and step.clearance_m == pytest.approx(0.4) and step.sway_m_s < 0
-    assert step.surge_factor == 1.0  # going on forward clears it: no hold for an object already passed
+    far_passed = [[0.4, 0.0, -0.4]]  # 0.57 m from the camera: clear of a way starting there...
+    assert plan_way(TARGET, far_passed, 1.0, 0.5) is None
+    way = plan_way(TARGET, far_passed, 1.0, 0.5, behind_m=0.5)  # ... not of the hull reaching 0.5 m back
+    assert way is not None and way.angle_rad < 0  # turned away from it...
+    assert way.clearance_m == pytest.approx(np.linalg.norm([0.4, 0.0, 0.1]))  # ... as far as the hull's rear is
+    assert sidestep(TARGET, far_passed, 1.0, 0.5, 0.3, behind_m=0.5).clear  # no nearer than the hull is: clear

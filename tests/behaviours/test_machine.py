@@ -423,15 +423,16 @@ def test_evidence_helpers():
 
 @pytest.mark.parametrize("clearance_m", [0.6, 0.0])
 def test_the_servo_goes_round_a_known_object_beside_its_way(rig, clearance_m):
-    """``behaviour.servo_clearance_m``: a known neighbour 0.3 m right of the stand-off point sways the vehicle left,
-    ramped by the servo's sway acceleration limit and told once; with 0 the servo goes straight."""
+    """``behaviour.servo_clearance_m``: a known neighbour 0.15 m right of the stand-off point sways the vehicle left
+    (the way round it ends turned left about the target), ramped by the servo's sway acceleration limit and told
+    once; with 0 the servo goes straight."""
     m, frame = _servoing(rig, **{"behaviour.servo_clearance_m": clearance_m})
     m.bb.tracker.neighbours_m = np.array([[0.15, 0.0, -1.0]])  # the target is at (0.3, 0, 2.0)
     sways = []
     for k in range(1, 6):
         _tick_at(m, 0.2 * k, frame)
         sways.append(m.bb.command.sway_m_s)
-    told = [s for s in m.bb.story if "going round it (left)" in s]
+    told = [s for s in m.bb.story if "going round, the stand-off turned" in s and s.endswith("left about the target")]
     if clearance_m:
         ramp = float(m.bb.servo.max_accel[1]) * 0.2
         assert sways[0] == pytest.approx(-ramp) and all(b <= a for a, b in zip(sways, sways[1:])) and len(told) == 1
