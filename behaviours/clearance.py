@@ -18,7 +18,7 @@ stand-off point; its clearance is the least distance of any object from it. The 
 when it is clear; otherwise the least turn whose way is clear, weighing every object at once (two
 objects on either side of a gap are one constraint, not two pushes); when no turn is clear, the
 clearest. The plan is made again on every frame from where the vehicle is (a receding horizon), and
-keeps to the side it chose unless only the other side is clear.
+keeps to the side it chose unless only the other side is clear (or, when no way is clear, clearly better).
 
 Following the way: the vehicle sways toward the way's stand-off point at ``gain_per_s`` times its
 lateral offset (capped by the servo's sway limit; the yaw keeps the target centred, so the vehicle
@@ -52,6 +52,9 @@ off its face's line from the start; further round, a flat placard's texture is h
 
 SIDE_PREFERENCE_RAD = math.radians(10.0)
 """A clear way on the side chosen before wins over one on the other side turned up to this much less, rad."""
+
+SIDE_PREFERENCE_M = 0.05
+"""When no way is clear, one on the side chosen before wins over one on the other side up to this much clearer, m."""
 
 
 @dataclass(frozen=True)
@@ -165,7 +168,8 @@ def plan_way(target_xyz, objects_xyz, standoff_m: float, clearance_m: float, beh
         clearance_m: how far from the way every object must stay (0: always the direct way).
         behind_m: how far the hull reaches behind the camera (the way starts there), m.
         side: the side chosen before (its sign; 0: none): its clear ways win over the other side's turned up to
-            ``SIDE_PREFERENCE_RAD`` less.
+            ``SIDE_PREFERENCE_RAD`` less; when none is clear, its ways win over the other side's up to
+            ``SIDE_PREFERENCE_M`` clearer.
 
     Returns:
         The least turned clear way; when none is clear, the one that falls least short (ties: the least turned).
@@ -187,7 +191,8 @@ def plan_way(target_xyz, objects_xyz, standoff_m: float, clearance_m: float, beh
         return None
     clear = [w for w in ways if w.margin_m >= 0]
     if not clear:
-        return max(ways, key=lambda w: (round(w.margin_m, 3), -abs(w.angle_rad)))
+        return max(ways, key=lambda w: (round(w.margin_m + (SIDE_PREFERENCE_M if w.angle_rad * side > 0 else 0.0), 3),
+                                        -abs(w.angle_rad)))
 
     def cost(w: Way) -> float:
         """The turn, plus the preference's worth when on the side not chosen before, rad."""

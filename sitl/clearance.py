@@ -17,7 +17,15 @@ import numpy as np
 
 from .scenario_model import Placard
 
-__all__ = ["square_distance_m", "closest_approach_m", "closest_other_m"]
+__all__ = ["square_distance_m", "closest_approach_m", "closest_other_m", "BODY_SEGMENTS", "body_distance_m",
+           "closest_diver_m"]
+
+BODY_SEGMENTS = (("head", "neck"), ("neck", "chest"), ("chest", "pelvis"), ("shoulder", "o_shoulder"),
+                 ("shoulder", "elbow"), ("elbow", "wrist"), ("wrist", "hand"), ("o_shoulder", "o_elbow"),
+                 ("o_elbow", "o_wrist"), ("pelvis", "hip_r"), ("pelvis", "hip_l"), ("hip_r", "knee_r"),
+                 ("hip_l", "knee_l"), ("knee_r", "ankle_r"), ("knee_l", "ankle_l"), ("ankle_r", "fin_r"),
+                 ("ankle_l", "fin_l"), ("tank_top", "tank_bottom"))
+"""The diver's body as segments between its joints (``Diver.joints``): its axes, not its surface."""
 
 
 def square_distance_m(points_ned: np.ndarray, placard: Placard) -> np.ndarray:
@@ -45,3 +53,28 @@ def closest_other_m(closest: dict[int, float], target_id: int) -> float | None:
     """Return the least of ``closest`` over every placard but the pointed one (None when there is none), m."""
     others = [d for pid, d in closest.items() if pid != target_id and math.isfinite(d)]
     return min(others) if others else None
+
+
+def body_distance_m(point_ned, joints: dict[str, np.ndarray]) -> float:
+    """Return one NED point's least distance to the diver's body axes (``BODY_SEGMENTS`` of ``joints``), metres."""
+    p = np.asarray(point_ned, float)
+    best = math.inf
+    for a, b in BODY_SEGMENTS:
+        start, d = joints[a], joints[b] - joints[a]
+        t = float(np.clip((p - start) @ d / max(float(d @ d), 1e-12), 0.0, 1.0))
+        best = min(best, float(np.linalg.norm(p - start - t * d)))
+    return best
+
+
+def closest_diver_m(samples, diver, target_ned_m) -> float | None:
+    """Return the least distance from the vehicle's centre to the diver's body axes over the run, metres.
+
+    Args:
+        samples: (time s, north m, east m, depth m) rows of the vehicle's trajectory.
+        diver: the scenario's ``Diver`` (posed at each sample's time).
+        target_ned_m: the placard the diver points at (the arm's aim).
+    """
+    rows = list(samples)
+    if not rows:
+        return None
+    return round(min(body_distance_m(r[1:4], diver.joints(np.asarray(target_ned_m, float), r[0])) for r in rows), 3)

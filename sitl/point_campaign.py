@@ -179,7 +179,8 @@ def mission_trial(args: tuple) -> dict:
             "second_looks": states.count("second_look"), "second_look_displacement_m": _look_displacement(sim),
             "second_look_resolved": _resolved_after_look(states), "time_to_arrive_s": result.time_to_arrive_s,
             "states": states, "decisions": list(sim.mission.bb.decided),
-            "closest_other_m": doc["closest_other_m"], "closest_m": doc["closest_m"]}
+            "closest_other_m": doc["closest_other_m"], "closest_m": doc["closest_m"],
+            "closest_diver_m": doc["closest_diver_m"]}
 
 
 def _look_displacement(sim) -> float:

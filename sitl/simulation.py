@@ -37,7 +37,7 @@ from dip3d_vehicle.perception.pipeline import Perception
 from dip3d_vehicle.perception.pointing_arm import AUTO
 
 from .autopilot import Autopilot
-from .clearance import closest_approach_m, closest_other_m
+from .clearance import closest_approach_m, closest_diver_m, closest_other_m
 from .dynamics import VehicleState
 from .pose_source import SimPose, pose_backend_for
 from .render import StereoRenderer
@@ -105,6 +105,7 @@ class SimResult:
     pose_source: dict = field(default_factory=dict)
     decisions: list[dict] = field(default_factory=list)
     closest_m: dict = field(default_factory=dict)
+    closest_diver_m: float | None = None
 
     def to_json(self) -> dict:
         """Return the JSON object of ``dip3d-vehicle sitl --json`` (``outcome``: see sitl/outcome.py)."""
@@ -117,6 +118,7 @@ class SimResult:
         out["decisions"] = self.decisions
         out["closest_m"] = {str(k): v for k, v in self.closest_m.items()}
         out["closest_other_m"] = closest_other_m(self.closest_m, self.target_id)
+        out["closest_diver_m"] = self.closest_diver_m
         if self.fault is not None:
             out["fault"], out["safety"] = self.fault, self.safety
         return out
@@ -406,7 +408,8 @@ class Simulation:
                       "received_motion": sum(r.motion for r in self.received)},
             pose_source={k: v for k, v in self.pose.counts.items() if v},
             decisions=list(bb.decided),
-            closest_m=closest_approach_m([row[1:4] for row in self.trajectory], sc.placards))
+            closest_m=closest_approach_m([row[1:4] for row in self.trajectory], sc.placards),
+            closest_diver_m=closest_diver_m(self.trajectory, sc.diver, sc.placard(target).centre_ned_m))
 
     def safety(self) -> dict:
         """Return the safety numbers of a fault run (times relative to the fault / its detection)."""

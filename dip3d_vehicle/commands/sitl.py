@@ -145,13 +145,16 @@ def print_outcome(result, out: Path, plots: bool = True) -> None:
 
 
 def _closest_line(result) -> str:
-    """Return the line naming the placard (other than the pointed one) the vehicle's centre came nearest, metres."""
+    """Return the line naming the placard (other than the pointed one) the vehicle's centre came nearest, and how
+    near it came to the diver, metres."""
+    diver = "" if result.closest_diver_m is None else f"; to the diver's body axes {result.closest_diver_m:.2f} m"
     others = {pid: d for pid, d in result.closest_m.items() if pid != result.target_id}
     if not others:
-        return "sitl: no other placard in the scene"
+        return f"sitl: no other placard in the scene{diver}"
     pid = min(others, key=others.get)
     return (f"sitl: nearest the vehicle came to another placard: {others[pid]:.2f} m (placard {pid}; "
-            f"vehicle centre to its face; {result.closest_m.get(result.target_id, float('nan')):.2f} m to the pointed one)")
+            f"vehicle centre to its face; {result.closest_m.get(result.target_id, float('nan')):.2f} m to the pointed "
+            f"one){diver}")
 
 
 def _fmt(v, unit: str) -> str:

@@ -83,6 +83,16 @@ def test_with_no_clear_way_the_clearest_is_taken_and_the_vehicle_holds_short():
     assert abs(step.way.angle_rad) <= MAX_ORBIT_RAD + 1e-9
 
 
+def test_with_no_clear_way_the_side_chosen_before_is_kept_unless_the_other_is_clearly_better():
+    """Two objects either side of the way, the left one a little further: no way is clear (0.6 m), the clearest is
+    on the left; a vehicle already going right keeps right (a nearest-first sidestep swung between them)."""
+    objects = [[0.2, 0.0, 0.8], [-0.3, 0.0, 0.8]]
+    free = plan_way(TARGET, objects, 1.0, 0.6)
+    right = plan_way(TARGET, objects, 1.0, 0.6, side=1.0)
+    assert free.margin_m < 0 and right.margin_m < 0
+    assert free.angle_rad < 0 < right.angle_rad and right.margin_m >= free.margin_m - 0.05
+
+
 def test_the_advance_keeps_to_the_straight_way():
     """Forward surge is capped at the sway's pace along the way: the vehicle reaches the way's stand-off point's
     side and its range together, not the stand-off range first."""

@@ -34,3 +34,17 @@ def test_closest_approach_takes_the_least_over_the_path_per_placard():
     assert closest_other_m({1: 0.8}, target_id=1) is None
     assert closest_approach_m([], [FACING]) == {}
     assert math.isfinite(closest_other_m(closest, target_id=3))
+
+
+def test_the_diver_distance_is_to_the_nearest_body_axis_over_the_run():
+    from sitl.clearance import body_distance_m, closest_diver_m
+    from sitl.scenario import load_scenario
+    sc = load_scenario("paper_pool", 0)
+    target = np.asarray(sc.placard(sc.target_id).centre_ned_m)
+    joints = sc.diver.joints(target, 0.0)
+    assert body_distance_m(joints["chest"], joints) == pytest.approx(0.0, abs=1e-9)
+    beside = joints["chest"] + np.array([0.0, 0.0, -0.5])  # 0.5 m above the chest: 0.23 m above the head
+    assert body_distance_m(beside, joints) == pytest.approx(0.5 - 0.27, abs=1e-9)
+    run = [(0.0, 0.0, 0.0, 1.0), (1.0, *(joints["head"] + [0.0, 0.0, -0.4]))]  # ends 0.4 m above the head
+    assert closest_diver_m(run, sc.diver, target) == pytest.approx(0.4, abs=0.05)  # the diver sways 3 cm
+    assert closest_diver_m([], sc.diver, target) is None
