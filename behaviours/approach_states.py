@@ -95,7 +95,7 @@ class _Steering(MissionState):
         """Return ``command`` following the way round the known objects (clearance.py): a sway toward the way's
         stand-off point, ramped by the servo's sway acceleration limit, and no faster advance than keeps to it."""
         target = np.asarray(found.xyz_m, float)
-        step = sidestep(target, target + bb.tracker.neighbours_m, bb.config.standoff_m, bb.config.servo_clearance_m,
+        step = sidestep(target, target + self.kept_clear_m(bb), bb.config.standoff_m, bb.config.servo_clearance_m,
                         float(bb.servo.max_speed[1]), bb.servo.mount.forward_m + HULL_HALF_LENGTH_M, self.side)
         want = 0.0 if step is None else step.sway_m_s
         ramp = float(bb.servo.max_accel[1]) * dt_s
@@ -109,6 +109,12 @@ class _Steering(MissionState):
             surge = min(surge * step.surge_factor, step.max_surge_m_s)
         return replace(command, sway_m_s=self.sway_m_s, surge_m_s=surge)
 
+    @staticmethod
+    def kept_clear_m(bb: Blackboard) -> np.ndarray:
+        """Return what the way keeps clear of, as offsets from the target (camera frame, metres, (K, 3)): the
+        decision's other objects, then the diver's body points (``pointing_states.diver_points_m``)."""
+        return np.vstack([bb.tracker.neighbours_m, bb.tracker.diver_m])
+
     def tell_way(self, bb: Blackboard, target: np.ndarray, step: Sidestep) -> None:
         """Say the way taken when its side (or whether it is clear) changes."""
         side = 1.0 if step.way.angle_rad > 0 else -1.0
@@ -117,15 +123,16 @@ class _Steering(MissionState):
         if told == self.told:
             return
         self.told = told
-        where = ", ".join(f"{v:.2f}" for v in target + bb.tracker.neighbours_m[step.way.index])
+        where = ", ".join(f"{v:.2f}" for v in target + self.kept_clear_m(bb)[step.way.index])
+        what = "an object" if step.way.index < len(bb.tracker.neighbours_m) else "the diver"
         turn = f"{abs(np.degrees(step.way.angle_rad)):.0f} deg {'right' if side > 0 else 'left'}"
         if step.clear:
-            bb.say(f"an object at ({where}) m is in the way to the target: going round, the stand-off turned {turn} "
+            bb.say(f"{what} at ({where}) m is in the way to the target: going round, the stand-off turned {turn} "
                    f"about the target", pilot=True)
         else:
-            bb.say(f"no way to the target keeps {bb.config.servo_clearance_m:.2f} m from every object: the clearest "
-                   f"(stand-off turned {turn}) passes {step.way.clearance_m:.2f} m from the object at ({where}) m; "
-                   f"holding short of it", "warning", pilot=True)
+            bb.say(f"no way to the target keeps {bb.config.servo_clearance_m:.2f} m from every object and the diver: "
+                   f"the clearest (stand-off turned {turn}) passes {step.way.clearance_m:.2f} m from {what} at "
+                   f"({where}) m; holding short", "warning", pilot=True)
 
     def tick(self, bb: Blackboard) -> str | None:
         if self.timed_out(bb):

@@ -13,6 +13,7 @@ from collections import deque
 import numpy as np
 
 from dip3d_vehicle.perception.held_arm import HeldArm
+from dip3d_vehicle.perception.values import Arm3D
 from dip3d_vehicle.servo.command import VelocityCommand
 
 from .blackboard import Blackboard
@@ -68,6 +69,26 @@ def _neighbours_m(bb: Blackboard, winner: Hypothesis) -> np.ndarray:
     tracker's known neighbours (refused as the target with ``behaviour.track_neighbours``, kept clear of by the
     servo with ``behaviour.servo_clearance_m``)."""
     return np.array([h.xyz_m - winner.xyz_m for h in bb.fusion.hypotheses if h is not winner], float).reshape(-1, 3)
+
+
+HAND_BEYOND_WRIST_M = 0.15
+"""Where the pointing hand's fingertips reach past the wrist, along the forearm, m."""
+
+HIP_BELOW_SHOULDER_M = 0.5
+"""Where the diver's hips are below the shoulder (the camera's y, down), m."""
+
+
+def diver_points_m(arm3d: Arm3D | None) -> np.ndarray:
+    """Return points of the diver's body to keep clear of (camera frame, metres, (J, 3)): the triangulated
+    shoulder, elbow and wrist, the pointing hand past the wrist and the hips below the shoulder; none without an arm."""
+    if arm3d is None:
+        return np.zeros((0, 3))
+    shoulder, elbow, wrist = (np.asarray(p, float) for p in arm3d.xyz_m)
+    forearm = wrist - elbow
+    n = float(np.linalg.norm(forearm))
+    hand = wrist + HAND_BEYOND_WRIST_M * forearm / n if n > 1e-6 else wrist
+    points = np.array([shoulder, elbow, wrist, hand, shoulder + [0.0, HIP_BELOW_SHOULDER_M, 0.0]])
+    return points[np.all(np.isfinite(points), axis=1)]
 
 
 def _tell_decision(bb: Blackboard, decision: FusedDecision) -> None:
@@ -217,7 +238,8 @@ class SelectTarget(_ArmWatch):
             return "nothing_there"
         w = bb.fusion.as_vote(decision.winner)
         bb.chosen = w
-        bb.tracker.start(w.obj, w.candidates, w.stamp_s, w.pool, _neighbours_m(bb, decision.winner))
+        bb.tracker.start(w.obj, w.candidates, w.stamp_s, w.pool, _neighbours_m(bb, decision.winner),
+                         diver_points_m(self.last_arm3d) - decision.winner.xyz_m)
         bb.target = bb.tracker.last
         xyz = ", ".join(f"{v:.2f}" for v in w.xyz_m)
         bb.say(f"target chosen at ({xyz}) m, p {decision.posterior[decision.best]:.2f} "

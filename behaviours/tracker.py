@@ -227,6 +227,7 @@ class TargetTracker:
         self.frames = 0
         self.reacquisitions = 0
         self.neighbours_m: np.ndarray = np.zeros((0, 3))
+        self.diver_m: np.ndarray = np.zeros((0, 3))
         self.fix_xyz_m: np.ndarray | None = None  # where the target was last seen (or started, or rewound)
         self.refused = 0  # objects inside the gate refused as a known neighbour, over the track
 
@@ -242,7 +243,7 @@ class TargetTracker:
 
     def start(self, obj: ObjectCandidate, candidates: Candidates, stamp_s: float,
               pool: list[tuple[ObjectCandidate, Candidates]] | None = None,
-              neighbours_m: np.ndarray | None = None) -> None:
+              neighbours_m: np.ndarray | None = None, diver_m: np.ndarray | None = None) -> None:
         """Start tracking ``obj`` (members index into ``candidates``), seen at ``stamp_s``.
 
         ``pool``: the target's sightings over the decision's frames, (object, its frame's candidates),
@@ -250,6 +251,8 @@ class TargetTracker:
         small far target's one sighting holds a handful, and a frame of it rarely matches enough of them.
         ``neighbours_m``: the other objects the decision knew, as offsets from the target (camera frame,
         metres, (K, 3)); they follow the target's prediction, turned by the commanded yaw (``_refused``).
+        ``diver_m``: points of the diver's body at the decision, as offsets from the target (camera frame, metres,
+        (J, 3)); turned as the neighbours, kept clear of by the servo (never refused as the target).
         """
         members = list(obj.members)
         desc = candidates.descriptors[members] if len(candidates.descriptors) == len(candidates) else None
@@ -265,6 +268,7 @@ class TargetTracker:
         self.last_seen_s = self.last_frame_s = stamp_s
         self.misses = 0
         self.neighbours_m = np.zeros((0, 3)) if neighbours_m is None else np.asarray(neighbours_m, float).reshape(-1, 3)
+        self.diver_m = np.zeros((0, 3)) if diver_m is None else np.asarray(diver_m, float).reshape(-1, 3)
 
     def rewind(self, xyz_m: np.ndarray, stamp_s: float) -> None:
         """The vehicle is back where it saw the target at ``xyz_m`` (after a zero-net manoeuvre, the nod):
@@ -305,6 +309,7 @@ class TargetTracker:
         self.frames += 1
         predicted = self.predicted_xyz(stamp_s, command)
         self.neighbours_m = turn_xyz(self.neighbours_m, command, self._since_frame_s(stamp_s))
+        self.diver_m = turn_xyz(self.diver_m, command, self._since_frame_s(stamp_s))
         self.xyz_m = predicted  # dead reckoning while unseen keeps the gate centred
         self.last_frame_s = stamp_s
         found = self._find(candidates, xyz_m, predicted, stamp_s)

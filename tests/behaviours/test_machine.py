@@ -183,6 +183,10 @@ def test_the_tracker_starts_with_the_decisions_other_objects_as_neighbours(rig, 
     assert fired[-1] == "winner" and m.bb.tracker.active
     np.testing.assert_allclose(m.bb.tracker.neighbours_m, [[0.0, -0.35, 0.0]], atol=1e-9)
     assert m.bb.tracker.config.refuse_neighbours is known
+    # the diver's body points go along as offsets too (kept clear of by the servo): shoulder (-0.5, 0, 2.5), elbow,
+    # wrist, the hand 0.15 m past the wrist and the hips 0.5 m below the shoulder, all from the winner (0.5, 0, 2.0)
+    np.testing.assert_allclose(m.bb.tracker.diver_m, [[-1.0, 0.0, 0.5], [-0.7, 0.0, 0.5], [-0.42, 0.0, 0.5],
+                                                      [-0.27, 0.0, 0.5], [-1.0, 0.5, 0.5]], atol=1e-9)
 
 
 def test_select_target_split_or_ambiguous_votes_go_back_to_confirm(rig):
@@ -439,6 +443,17 @@ def test_the_servo_goes_round_a_known_object_beside_its_way(rig, clearance_m):
         assert min(sways) >= -float(m.bb.servo.max_speed[1]) - 1e-9
     else:
         assert sways == [0.0] * 5 and not told
+
+
+def test_the_servo_keeps_clear_of_the_diver(rig):
+    """The diver's hand 0.2 m right of the stand-off point (``tracker.diver_m``) turns the way left, and the pilot is
+    told it is the diver."""
+    m, frame = _servoing(rig)
+    m.bb.tracker.diver_m = np.array([[0.2, 0.0, -1.0]])  # the target is at (0.3, 0, 2.0)
+    for k in range(1, 4):
+        _tick_at(m, 0.2 * k, frame)
+    assert m.bb.command.sway_m_s < 0
+    assert any("the diver at" in s and "going round" in s for s in m.bb.story)
 
 
 @pytest.mark.parametrize("step_m, clearance_m, held", [(0.0, 0.6, True), (0.012, 0.6, False), (0.0, 0.0, False)])

@@ -263,13 +263,14 @@ def test_the_decisions_other_objects_are_offsets_from_the_target_turned_with_the
     cands, xyz = _scene([[0.0, 0.0, 2.0]], 8, rig)
     tracker = TargetTracker(TrackerConfig(), rig)
     tracker.start(ObjectCandidate(cands.left_px.mean(axis=0), xyz.mean(axis=0), 0.02, tuple(range(8))), cands, 0.0,
-                  neighbours_m=np.array([[0.0, 0.0, 1.0], [0.5, 0.0, 0.0]]))
+                  neighbours_m=np.array([[0.0, 0.0, 1.0], [0.5, 0.0, 0.0]]), diver_m=np.array([[0.0, 0.3, 1.0]]))
     turn_and_advance = VelocityCommand(yaw_rate_rad_s=math.pi / 2, surge_m_s=0.3)
     tracker.update(Candidates.empty(), np.zeros((0, 3)), 1.0, turn_and_advance)
     np.testing.assert_allclose(tracker.neighbours_m, [[-1.0, 0.0, 0.0], [0.0, 0.0, 0.5]], atol=1e-9)
+    np.testing.assert_allclose(tracker.diver_m, [[-1.0, 0.3, 0.0]], atol=1e-9)  # the diver's points turn alike
     off = TargetTracker(TrackerConfig(), rig)
     off.start(ObjectCandidate(cands.left_px.mean(axis=0), xyz.mean(axis=0), 0.02, tuple(range(8))), cands, 0.0)
-    assert off.neighbours_m.shape == (0, 3)
+    assert off.neighbours_m.shape == (0, 3) and off.diver_m.shape == (0, 3)
 
 
 def test_a_chain_holding_the_target_and_a_known_neighbour_is_not_refused():
