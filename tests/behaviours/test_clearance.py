@@ -109,3 +109,14 @@ def test_an_object_the_camera_has_passed_still_lies_beside_the_hull():
     assert way is not None and way.angle_rad < 0  # turned away from it...
     assert way.clearance_m == pytest.approx(np.linalg.norm([0.4, 0.0, 0.1]))  # ... as far as the hull's rear is
     assert sidestep(TARGET, far_passed, 1.0, 0.5, 0.3, behind_m=0.5).clear  # no nearer than the hull is: clear
+
+
+def test_the_diver_points_are_the_arm_the_hand_past_the_wrist_and_the_hips():
+    from behaviours.pointing_states import diver_points_m
+    from dip3d_vehicle.perception.values import Arm3D
+    arm = Arm3D(np.array([[0.0, 0.0, 3.0], [0.3, 0.0, 3.0], [0.6, 0.0, 3.0]]), np.full(3, 0.05))
+    np.testing.assert_allclose(diver_points_m(arm), [[0.0, 0.0, 3.0], [0.3, 0.0, 3.0], [0.6, 0.0, 3.0],
+                                                     [0.75, 0.0, 3.0], [0.0, 0.5, 3.0]], atol=1e-12)
+    assert diver_points_m(None).shape == (0, 3)
+    unseen = Arm3D(np.array([[0.0, 0.0, 3.0], [0.3, 0.0, 3.0], [np.nan, np.nan, np.nan]]), np.full(3, 0.05))
+    assert np.all(np.isfinite(diver_points_m(unseen)))  # a joint without a position is left out

@@ -79,6 +79,7 @@ def test_paper_pool_mission_reaches_the_pointed_placard():
     doc = result.to_json()  # how near the vehicle's centre came to each placard (sitl/clearance.py), metres
     assert set(doc["closest_m"]) == {"1", "2", "3"} and doc["closest_m"]["1"] == pytest.approx(1.0 + 0.25, abs=0.3)
     assert doc["closest_other_m"] == min(doc["closest_m"][k] for k in ("2", "3"))
+    assert doc["closest_diver_m"] > 1.0  # the diver stands ~3 m away, beyond placard 1 (1 m): never neared
 
 
 @pytest.mark.slow
