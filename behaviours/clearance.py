@@ -17,7 +17,7 @@ but looking at the target from the side. A way is the straight segment from the 
 stand-off point; its clearance is the least distance of any object from it. The direct way is kept
 when it is clear; otherwise the least turn whose way is clear, weighing every object at once (two
 objects on either side of a gap are one constraint, not two pushes); when no turn is clear, the
-clearest. The plan is made again on every frame from where the vehicle is (a receding horizon), and
+clearest if it is clearly clearer than the direct way (``CLEARER_BY_M``), else the direct way. The plan is made again on every frame from where the vehicle is (a receding horizon), and
 keeps to the side it chose unless only the other side is clear (or, when no way is clear, clearly better).
 
 Following the way: the vehicle sways toward the way's stand-off point at ``gain_per_s`` times its
@@ -52,6 +52,10 @@ off its face's line from the start; further round, a flat placard's texture is h
 
 SIDE_PREFERENCE_RAD = math.radians(10.0)
 """A clear way on the side chosen before wins over one on the other side turned up to this much less, rad."""
+
+CLEARER_BY_M = 0.15
+"""When no way is clear, the clearest is taken only if it falls this much less short than the direct way, m
+(otherwise going round would trade one near object for another: the direct way is kept)."""
 
 SIDE_PREFERENCE_M = 0.05
 """When no way is clear, one on the side chosen before wins over one on the other side up to this much clearer, m."""
@@ -172,7 +176,8 @@ def plan_way(target_xyz, objects_xyz, standoff_m: float, clearance_m: float, beh
             ``SIDE_PREFERENCE_M`` clearer.
 
     Returns:
-        The least turned clear way; when none is clear, the one that falls least short (ties: the least turned).
+        The least turned clear way; when none is clear, the one that falls least short (ties: the least turned) if it
+        falls ``CLEARER_BY_M`` less short than the direct way, else the direct way (with its margin < 0).
 
     Examples:
         >>> way = plan_way([0.0, 0.0, 2.0], [[0.1, 0.0, 1.0]], 1.0, 0.5)  # just right of the stand-off point
@@ -191,8 +196,9 @@ def plan_way(target_xyz, objects_xyz, standoff_m: float, clearance_m: float, beh
         return None
     clear = [w for w in ways if w.margin_m >= 0]
     if not clear:
-        return max(ways, key=lambda w: (round(w.margin_m + (SIDE_PREFERENCE_M if w.angle_rad * side > 0 else 0.0), 3),
+        best = max(ways, key=lambda w: (round(w.margin_m + (SIDE_PREFERENCE_M if w.angle_rad * side > 0 else 0.0), 3),
                                         -abs(w.angle_rad)))
+        return best if best.margin_m >= ways[0].margin_m + CLEARER_BY_M else ways[0]
 
     def cost(w: Way) -> float:
         """The turn, plus the preference's worth when on the side not chosen before, rad."""

@@ -84,13 +84,25 @@ def test_with_no_clear_way_the_clearest_is_taken_and_the_vehicle_holds_short():
 
 
 def test_with_no_clear_way_the_side_chosen_before_is_kept_unless_the_other_is_clearly_better():
-    """Two objects either side of the way, the left one a little further: no way is clear (0.6 m), the clearest is
-    on the left; a vehicle already going right keeps right (a nearest-first sidestep swung between them)."""
-    objects = [[0.2, 0.0, 0.8], [-0.3, 0.0, 0.8]]
+    """An object on the direct way and one either side, the right one a little nearer: no way is clear (0.6 m), the
+    clearest is on the left; a vehicle already going right keeps right (a nearest-first sidestep swung between
+    them)."""
+    objects = [[0.0, 0.0, 1.0], [0.7, 0.0, 1.2], [-0.75, 0.0, 1.2]]
     free = plan_way(TARGET, objects, 1.0, 0.6)
     right = plan_way(TARGET, objects, 1.0, 0.6, side=1.0)
     assert free.margin_m < 0 and right.margin_m < 0
     assert free.angle_rad < 0 < right.angle_rad and right.margin_m >= free.margin_m - 0.05
+
+
+def test_with_no_clear_way_the_direct_way_is_kept_unless_going_round_is_clearly_clearer():
+    """Objects either side of the way: turning toward one only trades it for the other (0.03 m clearer): the
+    direct way is kept. An object on the direct way itself: the clearest turn (0.36 m clearer) is taken."""
+    beside = plan_way(TARGET, [[0.2, 0.0, 0.8], [-0.3, 0.0, 0.8]], 1.0, 0.6)
+    assert beside.angle_rad == 0.0 and beside.margin_m < 0
+    step = sidestep(TARGET, [[0.2, 0.0, 0.8], [-0.3, 0.0, 0.8]], 1.0, 0.6, 0.3)
+    assert step.sway_m_s == 0.0 and not step.clear
+    blocked = plan_way(TARGET, [[0.0, 0.0, 1.0], [0.7, 0.0, 1.2], [-0.75, 0.0, 1.2]], 1.0, 0.6)
+    assert blocked.angle_rad != 0.0 and blocked.margin_m >= -0.6 + 0.15
 
 
 def test_the_advance_keeps_to_the_straight_way():
