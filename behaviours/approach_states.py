@@ -96,7 +96,8 @@ class _Steering(MissionState):
         stand-off point, ramped by the servo's sway acceleration limit, and no faster advance than keeps to it."""
         target = np.asarray(found.xyz_m, float)
         step = sidestep(target, target + self.kept_clear_m(bb), bb.config.standoff_m, bb.config.servo_clearance_m,
-                        float(bb.servo.max_speed[1]), bb.servo.mount.forward_m + HULL_HALF_LENGTH_M, self.side)
+                        float(bb.servo.max_speed[1]), bb.servo.mount.forward_m + HULL_HALF_LENGTH_M, self.side,
+                        bb.tracker.orbited_rad(target))
         want = 0.0 if step is None else step.sway_m_s
         ramp = float(bb.servo.max_accel[1]) * dt_s
         self.sway_m_s = float(np.clip(want, self.sway_m_s - ramp, self.sway_m_s + ramp))

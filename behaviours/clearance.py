@@ -11,8 +11,8 @@ target, turned by the commanded yaw), so they are remembered after they leave th
 in the rectified left camera frame (x right, y down, z forward, metres), as ``close_in.py``.
 
 The way: the stand-off point may be turned about the target (about the camera's vertical axis, in
-``ORBIT_STEP_RAD`` steps up to ``MAX_ORBIT_RAD`` either side), so the vehicle ends at the stand-off
-but looking at the target from the side. A way is the straight segment from the hull's rear
+``ORBIT_STEP_RAD`` steps, the vehicle kept within ``MAX_ORBIT_RAD`` of the line it decided from), so the
+vehicle ends at the stand-off but looking at the target from the side. A way is the straight segment from the hull's rear
 (``behind_m`` behind the camera: an object the camera has passed still lies beside the hull) to its
 stand-off point; its clearance is the least distance of any object from it. The direct way is kept
 when it is clear; otherwise the least turn whose way is clear, weighing every object at once (two
@@ -46,9 +46,10 @@ HULL_HALF_LENGTH_M = 0.25
 ORBIT_STEP_RAD = math.radians(5.0)
 """The turns of the stand-off point about the target that are tried, in steps of this, rad."""
 
-MAX_ORBIT_RAD = math.radians(60.0)
-"""The largest turn of the stand-off point about the target, either side, rad (the target is then seen at 60 deg
-off its face's line from the start; further round, a flat placard's texture is hard to track)."""
+MAX_ORBIT_RAD = math.radians(40.0)
+"""The farthest the vehicle goes round the target, either side, from where it decided (what it has gone round
+already and the way's turn together), rad. A flat placard is then seen 40 deg off the line it was chosen from: further
+round (60 deg, tried) its stereo range and image position jitter so that arrive could not settle in 60 s."""
 
 SIDE_PREFERENCE_RAD = math.radians(10.0)
 """A clear way on the side chosen before wins over one on the other side turned up to this much less, rad."""
@@ -141,11 +142,13 @@ def distance_to_path_m(points: np.ndarray, start: np.ndarray, end: np.ndarray) -
     return np.linalg.norm(points - start - along[:, None] * (d / length), axis=1), along
 
 
-def _angles(side: float) -> list[float]:
-    """Return the turns to try, 0 first, then by size with ``side``'s sign first at each size, rad."""
+def _angles(side: float, orbited_rad: float = 0.0) -> list[float]:
+    """Return the turns to try, 0 first, then by size with ``side``'s sign first at each size, keeping the vehicle
+    within ``MAX_ORBIT_RAD`` of where it decided (it has gone ``orbited_rad`` round already), rad."""
     first = 1.0 if side >= 0 else -1.0
-    steps = int(round(MAX_ORBIT_RAD / ORBIT_STEP_RAD))
-    return [0.0] + [sign * k * ORBIT_STEP_RAD for k in range(1, steps + 1) for sign in (first, -first)]
+    steps = int(round(2 * MAX_ORBIT_RAD / ORBIT_STEP_RAD))
+    turns = [sign * k * ORBIT_STEP_RAD for k in range(1, steps + 1) for sign in (first, -first)]
+    return [0.0] + [a for a in turns if abs(orbited_rad + a) <= MAX_ORBIT_RAD + 1e-9]
 
 
 def _way(target: np.ndarray, objects: np.ndarray, standoff_m: float, start: np.ndarray, angle: float,
@@ -159,7 +162,7 @@ def _way(target: np.ndarray, objects: np.ndarray, standoff_m: float, start: np.n
 
 
 def plan_way(target_xyz, objects_xyz, standoff_m: float, clearance_m: float, behind_m: float = 0.0,
-             side: float = 0.0) -> Way | None:
+             side: float = 0.0, orbited_rad: float = 0.0) -> Way | None:
     """Return the way to take round the objects, or None when the direct way is clear (or no clearance is asked).
 
     An object already nearer the hull's rear than ``clearance_m`` (beside the hull) can be kept no further than it
@@ -174,6 +177,8 @@ def plan_way(target_xyz, objects_xyz, standoff_m: float, clearance_m: float, beh
         side: the side chosen before (its sign; 0: none): its clear ways win over the other side's turned up to
             ``SIDE_PREFERENCE_RAD`` less; when none is clear, its ways win over the other side's up to
             ``SIDE_PREFERENCE_M`` clearer.
+        orbited_rad: how far the vehicle has gone round the target already (positive: right), rad: no way takes it
+            beyond ``MAX_ORBIT_RAD``.
 
     Returns:
         The least turned clear way; when none is clear, the one that falls least short (ties: the least turned) if it
@@ -191,7 +196,7 @@ def plan_way(target_xyz, objects_xyz, standoff_m: float, clearance_m: float, beh
     target = np.asarray(target_xyz, float)
     start = np.array([0.0, 0.0, -behind_m])
     needed = np.minimum(clearance_m, np.linalg.norm(objects - start, axis=1) - 1e-6)
-    ways = [_way(target, objects, standoff_m, start, a, needed) for a in _angles(side)]
+    ways = [_way(target, objects, standoff_m, start, a, needed) for a in _angles(side, orbited_rad)]
     if ways[0].margin_m >= 0:
         return None
     clear = [w for w in ways if w.margin_m >= 0]
@@ -207,11 +212,12 @@ def plan_way(target_xyz, objects_xyz, standoff_m: float, clearance_m: float, beh
 
 
 def sidestep(target_xyz, objects_xyz, standoff_m: float, clearance_m: float, max_sway_m_s: float,
-             behind_m: float = 0.0, side: float = 0.0, gain_per_s: float = GAIN_PER_S) -> Sidestep | None:
+             behind_m: float = 0.0, side: float = 0.0, orbited_rad: float = 0.0,
+             gain_per_s: float = GAIN_PER_S) -> Sidestep | None:
     """Return how to follow the way round the objects (``plan_way``), or None when the direct way is clear.
 
     Args:
-        target_xyz, objects_xyz, standoff_m, clearance_m, behind_m, side: as ``plan_way``.
+        target_xyz, objects_xyz, standoff_m, clearance_m, behind_m, side, orbited_rad: as ``plan_way``.
         max_sway_m_s: the sway limit, m/s.
         gain_per_s: sway speed per metre of lateral offset from the way's stand-off point, 1/s.
 
@@ -220,7 +226,7 @@ def sidestep(target_xyz, objects_xyz, standoff_m: float, clearance_m: float, max
         >>> s.sway_m_s < 0, s.clear  # sway left, round it
         (True, True)
     """
-    way = plan_way(target_xyz, objects_xyz, standoff_m, clearance_m, behind_m, side)
+    way = plan_way(target_xyz, objects_xyz, standoff_m, clearance_m, behind_m, side, orbited_rad)
     if way is None:
         return None
     lateral = float(way.end_xyz[0])

@@ -171,6 +171,11 @@ def _anchor_matches(min_matches: int) -> int:
     return max(2, min_matches // 2)
 
 
+def bearing_rad(xyz_m) -> float:
+    """Return a camera-frame point's bearing about the camera's vertical axis, rad (right +)."""
+    return math.atan2(float(xyz_m[0]), float(xyz_m[2]))
+
+
 def turn_xyz(xyz_m: np.ndarray, command: VelocityCommand | None, dt_s: float) -> np.ndarray:
     """Turn camera-frame points or offsets (metres, (3,) or (K, 3)) by the commanded yaw over ``dt_s``.
 
@@ -228,6 +233,8 @@ class TargetTracker:
         self.reacquisitions = 0
         self.neighbours_m: np.ndarray = np.zeros((0, 3))
         self.diver_m: np.ndarray = np.zeros((0, 3))
+        self.yawed_rad = 0.0  # the commanded yaw since start, rad (right +)
+        self.start_bearing_rad = 0.0  # the target's bearing in the camera at start, rad (right +)
         self.fix_xyz_m: np.ndarray | None = None  # where the target was last seen (or started, or rewound)
         self.refused = 0  # objects inside the gate refused as a known neighbour, over the track
 
@@ -269,6 +276,13 @@ class TargetTracker:
         self.misses = 0
         self.neighbours_m = np.zeros((0, 3)) if neighbours_m is None else np.asarray(neighbours_m, float).reshape(-1, 3)
         self.diver_m = np.zeros((0, 3)) if diver_m is None else np.asarray(diver_m, float).reshape(-1, 3)
+        self.yawed_rad, self.start_bearing_rad = 0.0, bearing_rad(self.xyz_m)
+
+    def orbited_rad(self, xyz_m) -> float:
+        """Return how far the vehicle has gone round the target since start, seen from the target (the line of
+        sight's turn, from the commanded yaw and the target's bearing now at ``xyz_m``), rad (positive: the vehicle
+        went right, as ``clearance.orbit_end_m``)."""
+        return -(self.yawed_rad + bearing_rad(xyz_m) - self.start_bearing_rad)
 
     def rewind(self, xyz_m: np.ndarray, stamp_s: float) -> None:
         """The vehicle is back where it saw the target at ``xyz_m`` (after a zero-net manoeuvre, the nod):
@@ -310,6 +324,8 @@ class TargetTracker:
         predicted = self.predicted_xyz(stamp_s, command)
         self.neighbours_m = turn_xyz(self.neighbours_m, command, self._since_frame_s(stamp_s))
         self.diver_m = turn_xyz(self.diver_m, command, self._since_frame_s(stamp_s))
+        if command is not None:
+            self.yawed_rad += command.yaw_rate_rad_s * max(self._since_frame_s(stamp_s), 0.0)
         self.xyz_m = predicted  # dead reckoning while unseen keeps the gate centred
         self.last_frame_s = stamp_s
         found = self._find(candidates, xyz_m, predicted, stamp_s)

@@ -132,3 +132,13 @@ def test_the_diver_points_are_the_arm_the_hand_past_the_wrist_and_the_hips():
     assert diver_points_m(None).shape == (0, 3)
     unseen = Arm3D(np.array([[0.0, 0.0, 3.0], [0.3, 0.0, 3.0], [np.nan, np.nan, np.nan]]), np.full(3, 0.05))
     assert np.all(np.isfinite(diver_points_m(unseen)))  # a joint without a position is left out
+
+
+def test_the_vehicle_goes_round_the_target_no_further_than_the_limit_in_all():
+    ahead = [[0.0, 0.0, 1.0]]
+    fresh = plan_way(TARGET, ahead, 1.0, 0.6, side=1.0)
+    assert fresh.angle_rad > 0
+    gone = MAX_ORBIT_RAD - math.radians(5)  # gone round to the right nearly as far as allowed already
+    way = plan_way(TARGET, ahead, 1.0, 0.6, side=1.0, orbited_rad=gone)
+    assert gone + way.angle_rad <= MAX_ORBIT_RAD + 1e-9  # no further right than the limit: left, or direct
+    assert way.angle_rad <= math.radians(5) + 1e-9

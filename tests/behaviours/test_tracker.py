@@ -268,6 +268,8 @@ def test_the_decisions_other_objects_are_offsets_from_the_target_turned_with_the
     tracker.update(Candidates.empty(), np.zeros((0, 3)), 1.0, turn_and_advance)
     np.testing.assert_allclose(tracker.neighbours_m, [[-1.0, 0.0, 0.0], [0.0, 0.0, 0.5]], atol=1e-9)
     np.testing.assert_allclose(tracker.diver_m, [[-1.0, 0.3, 0.0]], atol=1e-9)  # the diver's points turn alike
+    # gone round the target: the yaw turned right 90 deg and the target is dead ahead again: the vehicle went left
+    assert tracker.orbited_rad([0.0, 0.0, 2.0]) == pytest.approx(-math.pi / 2 + tracker.start_bearing_rad)
     off = TargetTracker(TrackerConfig(), rig)
     off.start(ObjectCandidate(cands.left_px.mean(axis=0), xyz.mean(axis=0), 0.02, tuple(range(8))), cands, 0.0)
     assert off.neighbours_m.shape == (0, 3) and off.diver_m.shape == (0, 3)
