@@ -448,7 +448,7 @@ def test_the_servo_goes_round_a_known_object_beside_its_way(rig, clearance_m):
 def test_the_servo_keeps_clear_of_the_diver(rig):
     """The diver's hand 0.2 m right of the stand-off point (``tracker.diver_m``) turns the way left, and the pilot is
     told it is the diver."""
-    m, frame = _servoing(rig)
+    m, frame = _servoing(rig, **{"behaviour.servo_clearance_m": 0.6})
     m.bb.tracker.diver_m = np.array([[0.2, 0.0, -1.0]])  # the target is at (0.3, 0, 2.0)
     for k in range(1, 4):
         _tick_at(m, 0.2 * k, frame)
