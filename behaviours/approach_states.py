@@ -208,7 +208,8 @@ class Arrive(_Steering):
     frames (in ALT_HOLD nothing brakes the vehicle horizontally: a coasting vehicle is not arrived), or, with
     the sidestep on (``behaviour.servo_clearance_m`` > 0), over the last ``SETTLE_WINDOW_S``: after a sidestep
     the target is seen at an angle, and its stereo range jitters by a centimetre from frame to frame while the
-    vehicle stands (``clearance.py``).
+    vehicle stands (``clearance.py``). A way round objects must also have reached its end (its stand-off point
+    turned about the target) within ``behaviour.arrive_tolerance_m`` sideways.
     Leaving tolerance x hysteresis goes back to servo; in between, the hold time restarts.
     """
 

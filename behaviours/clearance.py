@@ -11,14 +11,16 @@ target, turned by the commanded yaw), so they are remembered after they leave th
 in the rectified left camera frame (x right, y down, z forward, metres), as ``close_in.py``.
 
 The way: the stand-off point may be turned about the target (about the camera's vertical axis, in
-``ORBIT_STEP_RAD`` steps, the vehicle kept within ``MAX_ORBIT_RAD`` of the line it decided from), so the
-vehicle ends at the stand-off but looking at the target from the side. A way is the straight segment from the hull's rear
-(``behind_m`` behind the camera: an object the camera has passed still lies beside the hull) to its
-stand-off point; its clearance is the least distance of any object from it. The direct way is kept
-when it is clear; otherwise the least turn whose way is clear, weighing every object at once (two
-objects on either side of a gap are one constraint, not two pushes); when no turn is clear, the
-clearest if it is clearly clearer than the direct way (``CLEARER_BY_M``), else the direct way. The plan is made again on every frame from where the vehicle is (a receding horizon), and
-keeps to the side it chose unless only the other side is clear (or, when no way is clear, clearly better).
+``ORBIT_STEP_RAD`` steps, the vehicle kept within ``MAX_ORBIT_RAD`` of the line it decided from), so
+the vehicle ends at the stand-off but looking at the target from the side. A way is the straight
+segment from the hull's rear (``behind_m`` behind the camera: an object the camera has passed still
+lies beside the hull) to its stand-off point; its clearance is the least distance of any object from
+it. The direct way is kept when it is clear; otherwise the least turn whose way is clear, weighing
+every object at once (two objects on either side of a gap are one constraint, not two pushes); when
+no turn is clear, the clearest if it is clearly clearer than the direct way (``CLEARER_BY_M``), else
+the direct way. The plan is made again on every frame from where the vehicle is (a receding
+horizon), and keeps to the side it chose unless only the other side is clear (or, when no way is
+clear, clearly better).
 
 Following the way: the vehicle sways toward the way's stand-off point at ``gain_per_s`` times its
 lateral offset (capped by the servo's sway limit; the yaw keeps the target centred, so the vehicle

@@ -322,10 +322,11 @@ class TargetTracker:
             return None
         self.frames += 1
         predicted = self.predicted_xyz(stamp_s, command)
-        self.neighbours_m = turn_xyz(self.neighbours_m, command, self._since_frame_s(stamp_s))
-        self.diver_m = turn_xyz(self.diver_m, command, self._since_frame_s(stamp_s))
+        since_s = self._since_frame_s(stamp_s)
+        self.neighbours_m = turn_xyz(self.neighbours_m, command, since_s)
+        self.diver_m = turn_xyz(self.diver_m, command, since_s)
         if command is not None:
-            self.yawed_rad += command.yaw_rate_rad_s * max(self._since_frame_s(stamp_s), 0.0)
+            self.yawed_rad += command.yaw_rate_rad_s * max(since_s, 0.0)
         self.xyz_m = predicted  # dead reckoning while unseen keeps the gate centred
         self.last_frame_s = stamp_s
         found = self._find(candidates, xyz_m, predicted, stamp_s)

@@ -15,6 +15,8 @@ from typing import Iterable, Sequence
 
 import numpy as np
 
+from behaviours.clearance import distance_to_path_m
+
 from .scenario_model import Placard
 
 __all__ = ["square_distance_m", "closest_approach_m", "closest_other_m", "BODY_SEGMENTS", "body_distance_m",
@@ -57,13 +59,8 @@ def closest_other_m(closest: dict[int, float], target_id: int) -> float | None:
 
 def body_distance_m(point_ned, joints: dict[str, np.ndarray]) -> float:
     """Return one NED point's least distance to the diver's body axes (``BODY_SEGMENTS`` of ``joints``), metres."""
-    p = np.asarray(point_ned, float)
-    best = math.inf
-    for a, b in BODY_SEGMENTS:
-        start, d = joints[a], joints[b] - joints[a]
-        t = float(np.clip((p - start) @ d / max(float(d @ d), 1e-12), 0.0, 1.0))
-        best = min(best, float(np.linalg.norm(p - start - t * d)))
-    return best
+    p = np.asarray(point_ned, float).reshape(1, 3)
+    return min(float(distance_to_path_m(p, joints[a], joints[b])[0][0]) for a, b in BODY_SEGMENTS)
 
 
 def closest_diver_m(samples, diver, target_ned_m) -> float | None:
