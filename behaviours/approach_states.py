@@ -83,31 +83,39 @@ class _Steering(MissionState):
     def steer(self, bb: Blackboard, found: TrackedTarget) -> float:
         """Command the servo toward ``found`` on this frame; return the seconds since the previous frame."""
         stamp = bb.observation.stamp_s
-        dt = stamp - self.last_update_s if self.last_update_s is not None else 0.2
+        dt = max(stamp - self.last_update_s if self.last_update_s is not None else 0.2, 1e-3)
         self.last_update_s = stamp
-        command = bb.servo.update(tuple(found.left_px), float(found.xyz_m[2]), max(dt, 1e-3))
+        step = self.plan(bb, np.asarray(found.xyz_m, float))
+        bb.servo.standoff_m = bb.config.standoff_m + bb.held_short_m
+        command = bb.servo.update(tuple(found.left_px), float(found.xyz_m[2]), dt)
         bb.errors = bb.servo.last_errors
-        bb.set_command(self.keep_clear(bb, found, command, max(dt, 1e-3)))
+        bb.set_command(self.keep_clear(bb, command, step, dt))
         return dt
 
-    def keep_clear(self, bb: Blackboard, found: TrackedTarget, command: VelocityCommand,
+    def plan(self, bb: Blackboard, target: np.ndarray) -> Sidestep | None:
+        """Return the way round the known objects (clearance.py) from the stand-off held so far, or None when the
+        direct way is clear; a way that holds short lengthens the stand-off held (``bb.held_short_m``)."""
+        step = sidestep(target, target + self.kept_clear_m(bb), bb.config.standoff_m + bb.held_short_m,
+                        bb.config.servo_clearance_m, float(bb.servo.max_speed[1]),
+                        bb.servo.mount.forward_m + HULL_HALF_LENGTH_M, self.side, bb.tracker.orbited_rad(target))
+        if step is not None:
+            self.tell_way(bb, target, step)
+            bb.held_short_m = max(bb.held_short_m, step.way.standoff_m - bb.config.standoff_m)
+        return step
+
+    def keep_clear(self, bb: Blackboard, command: VelocityCommand, step: Sidestep | None,
                    dt_s: float) -> VelocityCommand:
-        """Return ``command`` following the way round the known objects (clearance.py): a sway toward the way's
-        stand-off point, ramped by the servo's sway acceleration limit, and no faster advance than keeps to it."""
-        target = np.asarray(found.xyz_m, float)
-        step = sidestep(target, target + self.kept_clear_m(bb), bb.config.standoff_m, bb.config.servo_clearance_m,
-                        float(bb.servo.max_speed[1]), bb.servo.mount.forward_m + HULL_HALF_LENGTH_M, self.side,
-                        bb.tracker.orbited_rad(target))
+        """Return ``command`` following the way ``step`` (None: the direct way): a sway toward the way's stand-off
+        point, ramped by the servo's sway acceleration limit, and no faster advance than keeps to it."""
         want = 0.0 if step is None else step.sway_m_s
         ramp = float(bb.servo.max_accel[1]) * dt_s
         self.sway_m_s = float(np.clip(want, self.sway_m_s - ramp, self.sway_m_s + ramp))
         self.offset_m = 0.0 if step is None else step.offset_m
         if step is None:
             return replace(command, sway_m_s=self.sway_m_s) if self.sway_m_s else command
-        self.tell_way(bb, target, step)
         surge = command.surge_m_s
         if surge > 0:
-            surge = min(surge * step.surge_factor, step.max_surge_m_s)
+            surge = min(surge, step.max_surge_m_s)
         return replace(command, sway_m_s=self.sway_m_s, surge_m_s=surge)
 
     @staticmethod
@@ -117,9 +125,10 @@ class _Steering(MissionState):
         return np.vstack([bb.tracker.neighbours_m, bb.tracker.diver_m])
 
     def tell_way(self, bb: Blackboard, target: np.ndarray, step: Sidestep) -> None:
-        """Say the way taken when its side (or whether it is clear) changes."""
-        side = 1.0 if step.way.angle_rad > 0 else -1.0
-        told = (side, step.clear)
+        """Say the way taken when its side, whether it is clear or the stand-off it holds short at changes."""
+        side = 1.0 if step.way.angle_rad > 0 else -1.0 if step.way.angle_rad < 0 else self.side
+        held = round(step.way.standoff_m - bb.config.standoff_m, 1)
+        told = (side, step.clear, held)
         self.side = side
         if told == self.told:
             return
@@ -127,13 +136,17 @@ class _Steering(MissionState):
         where = ", ".join(f"{v:.2f}" for v in target + self.kept_clear_m(bb)[step.way.index])
         what = "an object" if step.way.index < len(bb.tracker.neighbours_m) else "the diver"
         turn = f"{abs(np.degrees(step.way.angle_rad)):.0f} deg {'right' if side > 0 else 'left'}"
-        if step.clear:
-            bb.say(f"{what} at ({where}) m is in the way to the target: going round, the stand-off turned {turn} "
-                   f"about the target", pilot=True)
+        way = f"the stand-off turned {turn} about the target" if step.way.angle_rad else "straight"
+        if held <= 0:
+            bb.say(f"{what} at ({where}) m is in the way to the target: going round, {way}", pilot=True)
+        elif step.clear:
+            bb.say(f"no way to the stand-off keeps {bb.config.servo_clearance_m:.2f} m from every object and the "
+                   f"diver: holding short, {step.way.standoff_m:.1f} m from the target ({way}; nearest {what} at "
+                   f"({where}) m)", "warning", pilot=True)
         else:
-            bb.say(f"no way to the target keeps {bb.config.servo_clearance_m:.2f} m from every object and the diver: "
-                   f"the clearest (stand-off turned {turn}) passes {step.way.clearance_m:.2f} m from {what} at "
-                   f"({where}) m; holding short", "warning", pilot=True)
+            bb.say(f"no way keeps {bb.config.servo_clearance_m:.2f} m from every object and the diver: stopping "
+                   f"here, {step.way.standoff_m:.1f} m from the target ({what} at ({where}) m passes "
+                   f"{step.way.clearance_m:.2f} m)", "warning", pilot=True)
 
     def tick(self, bb: Blackboard) -> str | None:
         if self.timed_out(bb):

@@ -196,7 +196,9 @@ class Blackboard:
     ``DECIDED_KEPT``); ``look_step`` / ``second_looks`` (the planned second
     look and how many this point has had); ``close_in_step`` / ``close_ins`` (the planned advance
     toward a far diver and how many this point has had); ``weak_lean`` (a weak decision's winner
-    carried across the move made before acting on it, ``weak_lean.py``; None: none).
+    carried across the move made before acting on it, ``weak_lean.py``; None: none); ``held_short_m`` (how much
+    longer than ``standoff_m`` the approach to the chosen target holds off, m: the way round the other objects and the
+    diver held short, ``clearance.py``; 0 until then).
     """
 
     config: BehaviourConfig
@@ -223,6 +225,7 @@ class Blackboard:
     weak_lean: WeakLean | None = None
     target: TrackedTarget | None = None
     errors: ServoErrors | None = None
+    held_short_m: float = 0.0
     arrived: bool = False
     arrivals: int = 0
     outbox: list = field(default_factory=list)

@@ -16,17 +16,17 @@ the vehicle ends at the stand-off but looking at the target from the side. A way
 segment from the hull's rear (``behind_m`` behind the camera: an object the camera has passed still
 lies beside the hull) to its stand-off point; its clearance is the least distance of any object from
 it. The direct way is kept when it is clear; otherwise the least turn whose way is clear, weighing
-every object at once (two objects on either side of a gap are one constraint, not two pushes); when
-no turn is clear, the clearest if it is clearly clearer than the direct way (``CLEARER_BY_M``), else
-the direct way. The plan is made again on every frame from where the vehicle is (a receding
-horizon), and keeps to the side it chose unless only the other side is clear (or, when no way is
-clear, clearly better).
+every object at once (two objects on either side of a gap are one constraint, not two pushes). When
+no turn is clear, the vehicle holds short: the stand-off grows in ``STANDOFF_STEP_M`` steps until
+some way is clear, up to where the camera is now (it stops). It never chooses which object to pass
+near. The plan is made again on every frame from where the vehicle is (a receding horizon), keeps
+to the side it chose unless only the other side is clear, and the caller keeps the stand-off it
+held short at (it only grows while the target is the same).
 
 Following the way: the vehicle sways toward the way's stand-off point at ``gain_per_s`` times its
-lateral offset (capped by the servo's sway limit; the yaw keeps the target centred, so the vehicle
-turns about the target) and advances no faster than the sway would carry it there along the straight
-way. When no way is clear it does not advance while the nearest object is nearer than half the
-clearance and lies ahead of the camera by at most ``clearance_m`` (it holds short).
+offset across the line of sight to the target (capped by the servo's sway limit; the yaw keeps the
+target centred, so the vehicle turns about the target) and advances no faster than the sway would
+carry it there along the straight way; the servo stops it at the way's stand-off.
 """
 
 from __future__ import annotations
@@ -36,8 +36,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["HULL_HALF_LENGTH_M", "MAX_ORBIT_RAD", "ORBIT_STEP_RAD", "Sidestep", "Way", "approach_end_m",
-           "distance_to_path_m", "orbit_end_m", "plan_way", "sidestep"]
+__all__ = ["HULL_HALF_LENGTH_M", "MAX_ORBIT_RAD", "ORBIT_STEP_RAD", "STANDOFF_STEP_M", "Sidestep", "Way",
+           "approach_end_m", "distance_to_path_m", "orbit_end_m", "plan_way", "sidestep"]
 
 GAIN_PER_S = 1.0
 """Sway speed per metre of lateral offset from the way's stand-off point, 1/s (capped by the servo's sway limit)."""
@@ -56,12 +56,8 @@ round (60 deg, tried) its stereo range and image position jitter so that arrive 
 SIDE_PREFERENCE_RAD = math.radians(10.0)
 """A clear way on the side chosen before wins over one on the other side turned up to this much less, rad."""
 
-CLEARER_BY_M = 0.15
-"""When no way is clear, the clearest is taken only if it falls this much less short than the direct way, m
-(otherwise going round would trade one near object for another: the direct way is kept)."""
-
-SIDE_PREFERENCE_M = 0.05
-"""When no way is clear, one on the side chosen before wins over one on the other side up to this much clearer, m."""
+STANDOFF_STEP_M = 0.1
+"""When no way at the stand-off is clear, longer stand-offs are tried in steps of this, m (the vehicle holds short)."""
 
 
 @dataclass(frozen=True)
@@ -71,6 +67,7 @@ class Way:
     Attributes:
         angle_rad: the stand-off point's turn about the target (positive: it lies to the right).
         end_xyz: where the camera ends, ``standoff_m`` from the target.
+        standoff_m: how far from the target the way ends, m (longer than asked: the vehicle holds short).
         clearance_m: the distance from the way of the object that falls most short of the clearance asked, m.
         index: which object (row of the objects given) that is.
         along_m: that object's nearest point on the way, m along it from its start.
@@ -79,6 +76,7 @@ class Way:
 
     angle_rad: float
     end_xyz: np.ndarray
+    standoff_m: float
     clearance_m: float
     index: int
     along_m: float
@@ -87,26 +85,21 @@ class Way:
 
 @dataclass(frozen=True)
 class Sidestep:
-    """How to follow a way round the objects (body sway, m/s; a factor on the servo's forward surge).
+    """How to follow a way round the objects (body sway, m/s; the most forward surge, m/s).
 
     Attributes:
         sway_m_s: the sway to command (positive = right), m/s.
         max_surge_m_s: the most forward surge that keeps to the way (the sway's pace along it), m/s.
-        surge_factor: what the servo's forward surge is multiplied by (1 = unchanged, 0 = holding short).
-        way: the way followed.
+        offset_m: the way's stand-off point's offset across the line of sight to the target, m (positive: right).
+        way: the way followed (its ``standoff_m`` is the servo's).
         clear: True when the way keeps every object ``clearance_m`` away.
     """
 
     sway_m_s: float
     max_surge_m_s: float
-    surge_factor: float
+    offset_m: float
     way: Way
     clear: bool
-
-    @property
-    def offset_m(self) -> float:
-        """The way's stand-off point's lateral offset from the camera, m (positive: right)."""
-        return float(self.way.end_xyz[0])
 
 
 def approach_end_m(target_xyz, standoff_m: float) -> np.ndarray:
@@ -155,12 +148,19 @@ def _angles(side: float, orbited_rad: float = 0.0) -> list[float]:
 
 def _way(target: np.ndarray, objects: np.ndarray, standoff_m: float, start: np.ndarray, angle: float,
          needed: np.ndarray) -> Way:
-    """Return the way whose stand-off point is turned ``angle`` about the target (``needed``: each object's
-    clearance asked, m)."""
+    """Return the way whose stand-off point, ``standoff_m`` from the target, is turned ``angle`` about it
+    (``needed``: each object's clearance asked, m)."""
     end = orbit_end_m(target, standoff_m, angle)
     dist, along = distance_to_path_m(objects, start, end)
     k = int(np.argmin(dist - needed))
-    return Way(angle, end, float(dist[k]), k, float(along[k]), float(dist[k] - needed[k]))
+    return Way(angle, end, standoff_m, float(dist[k]), k, float(along[k]), float(dist[k] - needed[k]))
+
+
+def _standoffs(standoff_m: float, depth_m: float) -> list[float]:
+    """Return the stand-offs to try: ``standoff_m``, then longer by ``STANDOFF_STEP_M`` up to the target's depth
+    ``depth_m`` (where the camera is: it stops), m."""
+    longer = [standoff_m + k * STANDOFF_STEP_M for k in range(1, int((depth_m - standoff_m) / STANDOFF_STEP_M) + 1)]
+    return [standoff_m] + [s for s in longer if s < depth_m - 1e-9] + ([depth_m] if depth_m > standoff_m else [])
 
 
 def plan_way(target_xyz, objects_xyz, standoff_m: float, clearance_m: float, behind_m: float = 0.0,
@@ -173,23 +173,23 @@ def plan_way(target_xyz, objects_xyz, standoff_m: float, clearance_m: float, beh
     Args:
         target_xyz: the target (camera frame, metres).
         objects_xyz: the other objects, (K, 3) (camera frame, metres).
-        standoff_m: the servo's stand-off (the way ends this far from the target).
+        standoff_m: the servo's stand-off (the way ends this far from the target, or further when it holds short).
         clearance_m: how far from the way every object must stay (0: always the direct way).
         behind_m: how far the hull reaches behind the camera (the way starts there), m.
         side: the side chosen before (its sign; 0: none): its clear ways win over the other side's turned up to
-            ``SIDE_PREFERENCE_RAD`` less; when none is clear, its ways win over the other side's up to
-            ``SIDE_PREFERENCE_M`` clearer.
+            ``SIDE_PREFERENCE_RAD`` less.
         orbited_rad: how far the vehicle has gone round the target already (positive: right), rad: no way takes it
             beyond ``MAX_ORBIT_RAD``.
 
     Returns:
-        The least turned clear way; when none is clear, the one that falls least short (ties: the least turned) if it
-        falls ``CLEARER_BY_M`` less short than the direct way, else the direct way (with its margin < 0).
+        The least turned clear way at the shortest stand-off that has one (from ``standoff_m`` up, in
+        ``STANDOFF_STEP_M`` steps, to the target's depth: the vehicle holds short); when not even stopping where it
+        is keeps clear, the direct way ending there (its margin < 0).
 
     Examples:
         >>> way = plan_way([0.0, 0.0, 2.0], [[0.1, 0.0, 1.0]], 1.0, 0.5)  # just right of the stand-off point
-        >>> way.angle_rad < 0, way.clearance_m >= 0.5  # ends turned to the left, clear
-        (True, True)
+        >>> way.angle_rad < 0, way.clearance_m >= 0.5, way.standoff_m  # ends turned to the left, clear
+        (True, True, 1.0)
     """
     objects = np.asarray(objects_xyz, float).reshape(-1, 3)
     objects = objects[np.all(np.isfinite(objects), axis=1)]
@@ -198,19 +198,19 @@ def plan_way(target_xyz, objects_xyz, standoff_m: float, clearance_m: float, beh
     target = np.asarray(target_xyz, float)
     start = np.array([0.0, 0.0, -behind_m])
     needed = np.minimum(clearance_m, np.linalg.norm(objects - start, axis=1) - 1e-6)
-    ways = [_way(target, objects, standoff_m, start, a, needed) for a in _angles(side, orbited_rad)]
-    if ways[0].margin_m >= 0:
+    angles = _angles(side, orbited_rad)
+    if _way(target, objects, standoff_m, start, 0.0, needed).margin_m >= 0:
         return None
-    clear = [w for w in ways if w.margin_m >= 0]
-    if not clear:
-        best = max(ways, key=lambda w: (round(w.margin_m + (SIDE_PREFERENCE_M if w.angle_rad * side > 0 else 0.0), 3),
-                                        -abs(w.angle_rad)))
-        return best if best.margin_m >= ways[0].margin_m + CLEARER_BY_M else ways[0]
 
     def cost(w: Way) -> float:
         """The turn, plus the preference's worth when on the side not chosen before, rad."""
         return abs(w.angle_rad) + (SIDE_PREFERENCE_RAD if side and w.angle_rad * side < 0 else 0.0)
-    return min(clear, key=cost)
+    standoffs = _standoffs(standoff_m, float(target[2]))
+    for s in standoffs:
+        clear = [w for w in (_way(target, objects, s, start, a, needed) for a in angles) if w.margin_m >= 0]
+        if clear:
+            return min(clear, key=cost)
+    return _way(target, objects, standoffs[-1], start, 0.0, needed)
 
 
 def sidestep(target_xyz, objects_xyz, standoff_m: float, clearance_m: float, max_sway_m_s: float,
@@ -218,10 +218,13 @@ def sidestep(target_xyz, objects_xyz, standoff_m: float, clearance_m: float, max
              gain_per_s: float = GAIN_PER_S) -> Sidestep | None:
     """Return how to follow the way round the objects (``plan_way``), or None when the direct way is clear.
 
+    The sway is taken across the line of sight to the target (horizontal), so a target still off-centre does not
+    sway the vehicle while the yaw centres it.
+
     Args:
         target_xyz, objects_xyz, standoff_m, clearance_m, behind_m, side, orbited_rad: as ``plan_way``.
         max_sway_m_s: the sway limit, m/s.
-        gain_per_s: sway speed per metre of lateral offset from the way's stand-off point, 1/s.
+        gain_per_s: sway speed per metre of offset from the way's stand-off point, 1/s.
 
     Examples:
         >>> s = sidestep([0.0, 0.0, 2.0], [[0.1, 0.0, 1.0]], 1.0, 0.5, 0.3)  # just right of the stand-off point
@@ -231,14 +234,17 @@ def sidestep(target_xyz, objects_xyz, standoff_m: float, clearance_m: float, max
     way = plan_way(target_xyz, objects_xyz, standoff_m, clearance_m, behind_m, side, orbited_rad)
     if way is None:
         return None
-    lateral = float(way.end_xyz[0])
+    lateral, forward = _across_and_along(np.asarray(target_xyz, float), way.end_xyz)
     sway = float(np.clip(gain_per_s * lateral, -max_sway_m_s, max_sway_m_s))
-    forward = float(way.end_xyz[2])  # still to go forward, m (the camera's axis)
     max_surge = math.inf if abs(lateral) < 0.02 else abs(sway) * max(forward, 0.0) / abs(lateral)
-    clear = way.margin_m >= 0
-    factor = 1.0
-    if not clear:  # no way is clear: hold short of an object just ahead
-        ahead_m = way.along_m - behind_m
-        if 0.0 <= ahead_m <= clearance_m:
-            factor = float(np.clip((way.clearance_m - clearance_m / 2) / (clearance_m / 2), 0.0, 1.0))
-    return Sidestep(sway, max_surge, factor, way, clear)
+    return Sidestep(sway, max_surge, lateral, way, way.margin_m >= 0)
+
+
+def _across_and_along(target: np.ndarray, point: np.ndarray) -> tuple[float, float]:
+    """Return ``point``'s offset across the horizontal line of sight to ``target`` (positive: right) and along it,
+    metres."""
+    h = math.hypot(float(target[0]), float(target[2]))
+    if h < 1e-9:
+        return float(point[0]), float(point[2])
+    ux, uz = float(target[0]) / h, float(target[2]) / h
+    return float(point[0]) * uz - float(point[2]) * ux, float(point[0]) * ux + float(point[2]) * uz

@@ -241,6 +241,7 @@ class SelectTarget(_ArmWatch):
         bb.tracker.start(w.obj, w.candidates, w.stamp_s, w.pool, _neighbours_m(bb, decision.winner),
                          diver_points_m(self.last_arm3d) - decision.winner.xyz_m)
         bb.target = bb.tracker.last
+        bb.held_short_m = 0.0
         xyz = ", ".join(f"{v:.2f}" for v in w.xyz_m)
         bb.say(f"target chosen at ({xyz}) m, p {decision.posterior[decision.best]:.2f} "
                f"(one look {decision.one_look:.2f})", pilot=True)

@@ -180,7 +180,7 @@ def mission_trial(args: tuple) -> dict:
             "second_look_resolved": _resolved_after_look(states), "time_to_arrive_s": result.time_to_arrive_s,
             "states": states, "decisions": list(sim.mission.bb.decided),
             "closest_other_m": doc["closest_other_m"], "closest_m": doc["closest_m"],
-            "closest_diver_m": doc["closest_diver_m"]}
+            "closest_diver_m": doc["closest_diver_m"], "held_short_m": doc["held_short_m"]}
 
 
 def _look_displacement(sim) -> float:

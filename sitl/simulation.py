@@ -106,6 +106,7 @@ class SimResult:
     decisions: list[dict] = field(default_factory=list)
     closest_m: dict = field(default_factory=dict)
     closest_diver_m: float | None = None
+    held_short_m: float | None = None
 
     def to_json(self) -> dict:
         """Return the JSON object of ``dip3d-vehicle sitl --json`` (``outcome``: see sitl/outcome.py)."""
@@ -119,6 +120,7 @@ class SimResult:
         out["closest_m"] = {str(k): v for k, v in self.closest_m.items()}
         out["closest_other_m"] = closest_other_m(self.closest_m, self.target_id)
         out["closest_diver_m"] = self.closest_diver_m
+        out["held_short_m"] = self.held_short_m
         if self.fault is not None:
             out["fault"], out["safety"] = self.fault, self.safety
         return out
@@ -192,6 +194,7 @@ class Simulation:
         self.trajectory: list[tuple] = []
         self.servo_log: list[tuple] = []
         self.range_at_arrival: float | None = None
+        self.held_short_m: float | None = None  # how much longer than the stand-off the arrival held off, m
         self.last_frame = None
         self.last_meta: dict = {}
         self.fault_at_s: float | None = None
@@ -250,6 +253,7 @@ class Simulation:
                 if self.mission.state == "done" and done_at is None:
                     done_at = now
                     self.range_at_arrival = self._true_range()
+                    self.held_short_m = self.mission.bb.held_short_m
                 if self.stop_when_done and done_at is not None and now - done_at >= float(p["sitl.after_done_s"]):
                     break
                 if self.fault_at_s is not None and now - self.fault_at_s >= self.fault.run_after_s:
@@ -382,13 +386,14 @@ class Simulation:
         chosen = self.chosen_placard()
         done_t = next((t for t, s in self.mission.history if s == "done"), None)
         final_range = err_m = None
+        standoff_m = bb.config.standoff_m + (self.held_short_m or 0.0)  # the stand-off in force at arrival
         if meta:
             info = meta["placards"][chosen if chosen is not None else target]
             final_range = float(info["range_m"])
-            err_m = final_range - bb.config.standoff_m
+            err_m = final_range - standoff_m
         px = bb.errors.pixel_px if bb.errors is not None else None
         at_arrival = self.range_at_arrival
-        err_arrival = None if at_arrival is None else at_arrival - bb.config.standoff_m
+        err_arrival = None if at_arrival is None else at_arrival - standoff_m
         reached = bool(bb.arrived and chosen == target and err_arrival is not None
                        and abs(err_arrival) <= bb.config.arrive_tolerance_m)
         story = sorted(self.link.events + bb.story + [f"t={t:.2f} pilot heard {s}" for t, s in self.pilot.statustexts],
@@ -409,7 +414,8 @@ class Simulation:
             pose_source={k: v for k, v in self.pose.counts.items() if v},
             decisions=list(bb.decided),
             closest_m=closest_approach_m([row[1:4] for row in self.trajectory], sc.placards),
-            closest_diver_m=closest_diver_m(self.trajectory, sc.diver, sc.placard(target).centre_ned_m))
+            closest_diver_m=closest_diver_m(self.trajectory, sc.diver, sc.placard(target).centre_ned_m),
+            held_short_m=_round(self.held_short_m))
 
     def safety(self) -> dict:
         """Return the safety numbers of a fault run (times relative to the fault / its detection)."""

@@ -128,7 +128,9 @@ def print_outcome(result, out: Path, plots: bool = True) -> None:
 
     chosen = "none" if result.chosen_id is None else f"placard {result.chosen_id}"
     arrival = (f" at {result.time_to_arrive_s:.1f} s, true range at arrival {_fmt(result.range_at_arrival_m, 'm')} "
-               f"(error {_fmt(result.range_error_at_arrival_m, 'm')})" if result.arrived else "")
+               f"(error {_fmt(result.range_error_at_arrival_m, 'm')}"
+               + (f" from the stand-off held short by {result.held_short_m:.1f} m to keep clear)" if result.held_short_m
+                  else ")") if result.arrived else "")
     end_of = chosen if result.chosen_id is not None else f"placard {result.target_id}"
     lines = [f"sitl: outcome {result.outcome.upper()} (exit code {OUTCOME_EXIT_CODES[result.outcome]}): "
              f"{result.outcome_reason}",

@@ -7,8 +7,8 @@ import math
 import numpy as np
 import pytest
 
-from behaviours.clearance import (MAX_ORBIT_RAD, approach_end_m, distance_to_path_m, orbit_end_m, plan_way,
-                                  sidestep)
+from behaviours.clearance import (STANDOFF_STEP_M, approach_end_m, distance_to_path_m, orbit_end_m, plan_way,
+                                  sidestep, MAX_ORBIT_RAD)
 
 TARGET = [0.0, 0.0, 2.0]  # 2 m ahead; with a 1 m stand-off the approach ends 1 m ahead
 
@@ -55,7 +55,7 @@ def test_an_object_beside_the_stand_off_point_turns_the_way_to_the_other_side(x)
     assert dist[0] < 0.6  # one step less would not be clear
     step = sidestep(TARGET, [[x, 0.0, 1.0]], 1.0, 0.6, 0.3)
     assert step.clear and np.sign(step.sway_m_s) == -np.sign(x) and abs(step.sway_m_s) <= 0.3
-    assert step.surge_factor == 1.0
+    assert step.way.standoff_m == 1.0  # round it to the stand-off asked, not held short
 
 
 def test_the_way_weighs_every_object_at_once():
@@ -76,33 +76,51 @@ def test_the_side_chosen_before_is_kept_while_it_is_clear():
     assert plan_way(TARGET, only_left, 1.0, 0.6, side=1.0).angle_rad < 0
 
 
-def test_with_no_clear_way_the_clearest_is_taken_and_the_vehicle_holds_short():
-    walled = np.array([[x, 0.0, 0.35] for x in np.arange(-1.5, 1.51, 0.25)])  # a row of objects just ahead
+def test_with_no_clear_way_the_vehicle_holds_short_at_the_shortest_stand_off_that_is_clear():
+    """Objects either side of the stand-off point: every way to it passes one of them nearer than 0.6 m (turning
+    toward one only trades it for the other). The vehicle holds short, no further than it must, and passes neither."""
+    objects = np.array([[0.2, 0.0, 0.8], [-0.3, 0.0, 0.8]])
+    way = plan_way(TARGET, objects, 1.0, 0.6)
+    assert way.standoff_m > 1.0 and way.margin_m >= 0
+    dist, _ = distance_to_path_m(objects, np.zeros(3), way.end_xyz)
+    assert dist.min() >= 0.6 and np.linalg.norm(np.asarray(TARGET) - way.end_xyz) == pytest.approx(way.standoff_m)
+    shorter = way.standoff_m - STANDOFF_STEP_M
+    for deg in range(-40, 41, 5):  # one step shorter, no turn is clear
+        dist, _ = distance_to_path_m(objects, np.zeros(3), orbit_end_m(TARGET, shorter, math.radians(deg)))
+        assert dist.min() < 0.6
+    step = sidestep(TARGET, objects, 1.0, 0.6, 0.3)
+    assert step.clear and step.way.standoff_m == way.standoff_m
+
+
+def test_a_row_of_objects_just_ahead_stops_the_vehicle_where_it_is():
+    walled = np.array([[x, 0.0, 0.35] for x in np.arange(-1.5, 1.51, 0.25)])
     step = sidestep(TARGET, walled, 1.0, 0.6, 0.3)
-    assert not step.clear and step.way.clearance_m < 0.3 and step.surge_factor == 0.0
-    assert abs(step.way.angle_rad) <= MAX_ORBIT_RAD + 1e-9
+    assert step.way.standoff_m == pytest.approx(TARGET[2])  # the stand-off is where the camera is: no advance
+    assert step.clear and step.sway_m_s == 0.0
 
 
-def test_with_no_clear_way_the_side_chosen_before_is_kept_unless_the_other_is_clearly_better():
-    """An object on the direct way and one either side, the right one a little nearer: no way is clear (0.6 m), the
-    clearest is on the left; a vehicle already going right keeps right (a nearest-first sidestep swung between
-    them)."""
-    objects = [[0.0, 0.0, 1.0], [0.7, 0.0, 1.2], [-0.75, 0.0, 1.2]]
-    free = plan_way(TARGET, objects, 1.0, 0.6)
-    right = plan_way(TARGET, objects, 1.0, 0.6, side=1.0)
-    assert free.margin_m < 0 and right.margin_m < 0
-    assert free.angle_rad < 0 < right.angle_rad and right.margin_m >= free.margin_m - 0.05
+def test_when_not_even_stopping_keeps_clear_the_vehicle_stops_and_says_so():
+    beside = [[0.3, 0.0, 0.0]]  # beside the camera, nearer the hull than its rear is
+    step = sidestep(TARGET, beside, 1.0, 0.6, 0.3, behind_m=0.5)
+    assert not step.clear and step.way.standoff_m == pytest.approx(TARGET[2]) and step.way.angle_rad == 0.0
 
 
-def test_with_no_clear_way_the_direct_way_is_kept_unless_going_round_is_clearly_clearer():
-    """Objects either side of the way: turning toward one only trades it for the other (0.03 m clearer): the
-    direct way is kept. An object on the direct way itself: the clearest turn (0.36 m clearer) is taken."""
-    beside = plan_way(TARGET, [[0.2, 0.0, 0.8], [-0.3, 0.0, 0.8]], 1.0, 0.6)
-    assert beside.angle_rad == 0.0 and beside.margin_m < 0
-    step = sidestep(TARGET, [[0.2, 0.0, 0.8], [-0.3, 0.0, 0.8]], 1.0, 0.6, 0.3)
-    assert step.sway_m_s == 0.0 and not step.clear
-    blocked = plan_way(TARGET, [[0.0, 0.0, 1.0], [0.7, 0.0, 1.2], [-0.75, 0.0, 1.2]], 1.0, 0.6)
-    assert blocked.angle_rad != 0.0 and blocked.margin_m >= -0.6 + 0.15
+def test_a_held_short_stand_off_is_kept_and_plans_go_on_from_it():
+    """The caller passes the stand-off it holds; a way from there that is clear needs nothing more."""
+    objects = np.array([[0.2, 0.0, 0.8], [-0.3, 0.0, 0.8]])
+    held = plan_way(TARGET, objects, 1.0, 0.6).standoff_m
+    assert plan_way(TARGET, objects, held, 0.6) is None
+
+
+def test_the_sway_is_taken_across_the_line_of_sight_to_an_off_centre_target():
+    """The target 17 deg right and an object on the way to it: the sway follows the way's turn about the target,
+    not the stand-off point's camera x (which is off-centre for the direct way too)."""
+    target = np.array([0.6, 0.0, 2.0])
+    step = sidestep(target, [0.5 * target + [0.05, 0.0, 0.0]], 1.0, 0.3, 0.3)
+    a = step.way.angle_rad
+    assert a != 0.0 and step.way.standoff_m == 1.0
+    assert step.offset_m == pytest.approx(step.way.standoff_m * math.sin(a))
+    assert sidestep(target, [[3.0, 0.0, 0.5]], 1.0, 0.3, 0.3) is None  # the direct way: no sway at all
 
 
 def test_the_advance_keeps_to_the_straight_way():

@@ -456,6 +456,22 @@ def test_the_servo_keeps_clear_of_the_diver(rig):
     assert any("the diver at" in s and "going round" in s for s in m.bb.story)
 
 
+def test_the_servo_holds_short_when_no_way_keeps_clear(rig):
+    """Objects either side of the stand-off point, every way to it nearer than 0.6 m to one of them: the servo's
+    stand-off grows (held on the blackboard, never shrinking while the target is the same) to the shortest with a
+    clear way, and the pilot is told once."""
+    m, frame = _servoing(rig, **{"behaviour.servo_clearance_m": 0.6})
+    m.bb.tracker.neighbours_m = np.array([[-0.1, 0.0, -1.2], [-0.6, 0.0, -1.2]])  # the target is at (0.3, 0, 2.0)
+    held = []
+    for k in range(1, 6):
+        _tick_at(m, 0.2 * k, frame)
+        held.append(m.bb.held_short_m)
+    assert held[0] > 0 and held == sorted(held)
+    assert m.bb.servo.standoff_m == pytest.approx(m.bb.config.standoff_m + held[-1])
+    assert m.bb.errors.range_m == pytest.approx(2.0 - m.bb.servo.standoff_m, abs=0.02)
+    assert len([s for s in m.bb.story if "holding short" in s]) == 1
+
+
 @pytest.mark.parametrize("step_m, clearance_m, held", [(0.0, 0.6, True), (0.012, 0.6, False), (0.0, 0.0, False)])
 def test_arrive_settles_through_a_centimetre_of_range_jitter_but_not_while_coasting(rig, step_m, clearance_m, held):
     """With the sidestep on, arrive's range rate is also taken over ``SETTLE_WINDOW_S``: a standing vehicle whose
