@@ -44,10 +44,13 @@ def cell(s: tuple) -> str:
     return f"{s[0]} / {s[1]} / {s[2]} | {f(s[3])} / {s[4]} | {diver}"
 
 
-def main() -> None:
+def main(extra=None, extra_head: str = "") -> None:
+    """Print the table; ``extra`` (run lines -> text) adds a column headed ``extra_head`` (session 53's held_table)."""
     here = Path(sys.argv[1])
     before = Path(sys.argv[2]) if len(sys.argv) > 2 else None
-    head = "| file | arrived / wrong / abstained | least to another placard / runs under 0.29 m | least to the diver / under 0.45 m |"
+    more = (lambda rs: f" {extra(list(rs))} |") if extra else (lambda rs: "")
+    head = ("| file | arrived / wrong / abstained | least to another placard / runs under 0.29 m | least to the diver / "
+            "under 0.45 m |" + (f" {extra_head} |" if extra else ""))
     print(head + (" before: same three |" if before else ""))
     print("|---" * (head.count("|") - 1 + (3 if before else 0)) + "|")
     total, total_before = [], []
@@ -57,14 +60,14 @@ def main() -> None:
         if not a:
             continue
         total += a.values()
-        row = f"| {rel} | {cell(summary(a))} |"
+        row = f"| {rel} | {cell(summary(a))} |" + more(a.values())
         if before:
             b = runs(before / rel)
             total_before += b.values()
             row += f" {cell(summary(b))} |" if b else " - | - | - |"
         print(row)
     s = summary(dict(enumerate(total)))
-    row = f"| **all {len(total)}** | {cell(s)} |"
+    row = f"| **all {len(total)}** | {cell(s)} |" + more(total)
     if before:
         row += f" {cell(summary(dict(enumerate(total_before))))} |"
     print(row)
