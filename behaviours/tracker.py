@@ -380,18 +380,23 @@ class TargetTracker:
         if best is None:
             best, best_count = self._near_and_alone(objects, counts, distances, gate, refused)
         else:
-            best = self._matched_part(best, first, candidates, xyz_m)
+            best = self._matched_part(best, first, candidates, xyz_m, predicted)
         if best is None:
             return None
         return TrackedTarget(np.asarray(best.left_px, float), np.asarray(best.xyz_m, float), best_count,
                              stamp_s, best)
 
     def _matched_part(self, obj: ObjectCandidate, first: np.ndarray, candidates: Candidates,
-                      xyz_m: np.ndarray) -> ObjectCandidate:
+                      xyz_m: np.ndarray, predicted: np.ndarray) -> ObjectCandidate:
         """Return the part of ``obj`` around its features matching the first sighting, if it is wider than a target.
 
         Two placards joined by what lies between them (a line on the floor) stay one object, whose centre lies
-        between them: the target is then the matched features and their neighbours (``group_radius_px``).
+        between them: the target is then the matched features and their neighbours (``group_radius_px``). A known
+        neighbour of the same texture matches the model too (two placards 0.05 m apart seen whole from 1.3 m:
+        ``stacked`` seed 6, issue 11 session 53; the centre then jumped 0.12 m every other frame): with the
+        neighbours on (``refuse_neighbours``), the part is also taken without the features nearer a predicted
+        neighbour than the predicted target, and of the two the one whose centre lies nearer the prediction is the
+        target (a neighbour's offset is only as good as the decision's view of it).
         """
         c = self.config
         members = np.asarray(obj.members)
@@ -401,9 +406,30 @@ class TargetTracker:
         depth_m = float(np.median(xyz_m[matched, 2]))
         if not extent_m(candidates.left_px[members], depth_m, self.rig.focal_px) > c.max_extent_m:
             return obj
+        parts = [self._part_around(members, first, candidates)]
+        if c.refuse_neighbours and len(self.neighbours_m):
+            parts.append(self._part_around(members[self._nearer_target(xyz_m[members], predicted)], first, candidates))
+        parts = [p for p in parts if p is not None]
+        return min(parts, key=lambda p: float(np.linalg.norm(p.xyz_m - predicted))) if parts else obj
+
+    def _part_around(self, members: np.ndarray, first: np.ndarray, candidates: Candidates) -> ObjectCandidate | None:
+        """Return the features of ``members`` within ``group_radius_px`` of those matching the first sighting, as one
+        object, or None when fewer than ``min_matches`` match."""
+        c = self.config
+        matched = members[first[members] >= 0]
+        if len(matched) < c.min_matches:
+            return None
         gap_px = cKDTree(candidates.left_px[matched]).query(candidates.left_px[members], k=1)[0]
         part = objects_of(candidates, self.rig, [members[gap_px <= c.group_radius_px]])
-        return part[0] if part else obj
+        return part[0] if part else None
+
+    def _nearer_target(self, points_m: np.ndarray, predicted: np.ndarray) -> np.ndarray:
+        """Return which points lie nearer the predicted target than every predicted known neighbour (camera frame,
+        metres; a point without a finite position is kept)."""
+        to_target = np.linalg.norm(points_m - predicted, axis=1)
+        to_neighbour = np.min(np.linalg.norm(points_m[:, None, :] - (predicted + self.neighbours_m)[None], axis=2),
+                              axis=1)
+        return ~(to_neighbour < to_target)
 
     def _refused(self, obj: ObjectCandidate, distance_m: float, predicted: np.ndarray, candidates: Candidates) -> bool:
         """True when ``obj`` lies nearer one of the decision's other objects (predicted) than the target's prediction,

@@ -295,6 +295,31 @@ def test_a_chain_holding_the_target_and_a_known_neighbour_is_not_refused():
     assert found is not None and found.xyz_m[0] == pytest.approx(-0.175, abs=0.03)
 
 
+@pytest.mark.parametrize("known", [True, False])
+def test_a_known_neighbour_of_the_same_texture_in_one_chain_is_left_out_of_the_target(known):
+    """Two placards of one texture joined into one object: the model matches both, and the matched part's centre
+    lay between them (``stacked`` seed 6, issue 11 session 53). With the neighbour known, the part without the
+    features nearer it is the one nearer the prediction: the target. Not known, the whole matched part as before."""
+    from dip3d_vehicle.perception.grouping import objects_of
+
+    rig = load_scenario("paper_pool", 0).rig()
+    z_m = 1.0
+    a, b = (_placard(x, z_m, 0.015) for x in (-0.175, 0.175))
+    along = np.arange(-0.33, 0.33 + 1e-9, 0.015)
+    line = np.c_[along, np.full(len(along), 0.17), np.full(len(along), z_m)]
+    xyz = np.vstack([a, b, line])
+    cands = _seen(xyz, rig, np.random.default_rng(8))
+    desc = cands.descriptors.copy()  # b printed like a
+    desc[len(a):2 * len(a)] = desc[:len(a)] + np.random.default_rng(9).normal(0.0, 0.002, (len(a), 128))
+    cands = replace(cands, descriptors=desc.astype(np.float32))
+    target = objects_of(cands, rig, [np.arange(len(a))])[0]
+    tracker = TargetTracker(TrackerConfig(), rig)
+    tracker.start(target, cands, 0.0, neighbours_m=np.array([[0.35, 0.0, 0.0]]) if known else None)
+    found = tracker.update(cands, xyz, 0.1)
+    assert found is not None
+    assert found.xyz_m[0] == (pytest.approx(-0.175, abs=0.03) if known else pytest.approx(0.0, abs=0.05))
+
+
 def test_features_that_match_the_same_few_model_descriptors_count_once():
     """A target of three features has a model of three descriptors. A big self-similar object whose seven
     features all match those three is three matches, not seven: under the identity test's four, so the track does
