@@ -91,3 +91,20 @@ def test_motion_commands_stop_within_1s_of_the_autopilot_going_silent():
     assert s["fault_at_s"] is not None
     assert s["last_motion_after_fault_s"] <= 1.0
     assert not any(r.motion for r in sim.received if r.t_s > s["fault_at_s"] + 1.0)
+
+
+@pytest.mark.slow
+def test_a_mission_with_no_clear_way_holds_short_and_is_judged_against_the_stand_off_it_held(tmp_path, capsys):
+    """``distractor_behind`` seed 0: the pointed placard lies about a metre beyond the diver's hand, with another
+    placard beside the way; no way to the 1 m stand-off keeps 0.6 m (``behaviour.servo_clearance_m``) from both, so
+    the vehicle holds short, arrives there, keeps clear of the diver and the other placards, and says so."""
+    from dip3d_vehicle.commands.sitl import print_outcome
+
+    result, _ = run_mission("distractor_behind", 0)
+    assert result.reached and result.chosen_id == result.target_id, result.story
+    assert result.held_short_m >= 0.3
+    assert result.range_at_arrival_m == pytest.approx(1.0 + result.held_short_m, abs=0.1)
+    assert result.closest_diver_m > 0.45 and result.to_json()["closest_other_m"] >= 0.29  # direct way: 0.59, 0.26
+    assert any("holding short" in line for line in result.story)
+    print_outcome(result, tmp_path, plots=False)
+    assert "held short by" in capsys.readouterr().out
