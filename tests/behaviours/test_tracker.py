@@ -275,9 +275,10 @@ def test_the_decisions_other_objects_are_offsets_from_the_target_turned_with_the
     assert off.neighbours_m.shape == (0, 3) and off.diver_m.shape == (0, 3)
 
 
-def test_a_chain_holding_the_target_and_a_known_neighbour_is_not_refused():
-    """Two placards joined by a floor line stay one object whose centre may lie nearer the neighbour than the
-    prediction; its matched part is the target, so the neighbour rule leaves such a chain alone."""
+def _chain(same_texture: bool = False):
+    """Return (rig, points, candidates, target): two 0.3 m placards 1 m ahead, 0.05 m apart (centres at x -0.175 and
+    +0.175), joined by a floor line into one object; the target is the left one (``same_texture``: the right one's
+    descriptors copy the left one's)."""
     from dip3d_vehicle.perception.grouping import objects_of
 
     rig = load_scenario("paper_pool", 0).rig()
@@ -287,7 +288,17 @@ def test_a_chain_holding_the_target_and_a_known_neighbour_is_not_refused():
     line = np.c_[along, np.full(len(along), 0.17), np.full(len(along), z_m)]
     xyz = np.vstack([a, b, line])
     cands = _seen(xyz, rig, np.random.default_rng(8))
-    target = objects_of(cands, rig, [np.arange(len(a))])[0]
+    if same_texture:
+        desc = cands.descriptors.copy()
+        desc[len(a):2 * len(a)] = desc[:len(a)] + np.random.default_rng(9).normal(0.0, 0.002, (len(a), 128))
+        cands = replace(cands, descriptors=desc.astype(np.float32))
+    return rig, xyz, cands, objects_of(cands, rig, [np.arange(len(a))])[0]
+
+
+def test_a_chain_holding_the_target_and_a_known_neighbour_is_not_refused():
+    """Two placards joined by a floor line stay one object whose centre may lie nearer the neighbour than the
+    prediction; its matched part is the target, so the neighbour rule leaves such a chain alone."""
+    rig, xyz, cands, target = _chain()
     tracker = TargetTracker(TrackerConfig(), rig)
     # the prediction a little off toward the left, the neighbour's offset putting it right on the chain's centre
     tracker.start(target, cands, 0.0, neighbours_m=np.array([[0.175, 0.03, 0.0]]))
@@ -300,19 +311,7 @@ def test_a_known_neighbour_of_the_same_texture_in_one_chain_is_left_out_of_the_t
     """Two placards of one texture joined into one object: the model matches both, and the matched part's centre
     lay between them (``stacked`` seed 6, issue 11 session 53). With the neighbour known, the part without the
     features nearer it is the one nearer the prediction: the target. Not known, the whole matched part as before."""
-    from dip3d_vehicle.perception.grouping import objects_of
-
-    rig = load_scenario("paper_pool", 0).rig()
-    z_m = 1.0
-    a, b = (_placard(x, z_m, 0.015) for x in (-0.175, 0.175))
-    along = np.arange(-0.33, 0.33 + 1e-9, 0.015)
-    line = np.c_[along, np.full(len(along), 0.17), np.full(len(along), z_m)]
-    xyz = np.vstack([a, b, line])
-    cands = _seen(xyz, rig, np.random.default_rng(8))
-    desc = cands.descriptors.copy()  # b printed like a
-    desc[len(a):2 * len(a)] = desc[:len(a)] + np.random.default_rng(9).normal(0.0, 0.002, (len(a), 128))
-    cands = replace(cands, descriptors=desc.astype(np.float32))
-    target = objects_of(cands, rig, [np.arange(len(a))])[0]
+    rig, xyz, cands, target = _chain(same_texture=True)
     tracker = TargetTracker(TrackerConfig(), rig)
     tracker.start(target, cands, 0.0, neighbours_m=np.array([[0.35, 0.0, 0.0]]) if known else None)
     found = tracker.update(cands, xyz, 0.1)
