@@ -156,6 +156,24 @@ def _way(target: np.ndarray, objects: np.ndarray, standoff_m: float, start: np.n
     return Way(angle, end, standoff_m, float(dist[k]), k, float(along[k]), float(dist[k] - needed[k]))
 
 
+def _margins(target: np.ndarray, objects: np.ndarray, standoff_m: float, start: np.ndarray, angles: np.ndarray,
+             needed: np.ndarray) -> np.ndarray:
+    """Return the margin (``Way.margin_m``) of the way turned by each of ``angles``, all at once (the search's
+    sieve: ``_way`` gives the way itself), metres."""
+    rng = float(np.linalg.norm(target))
+    if rng <= standoff_m or rng < 1e-9:
+        ends = np.repeat(approach_end_m(target, standoff_m)[None], len(angles), axis=0)
+    else:
+        u, c, s = target / rng, np.cos(angles), np.sin(angles)
+        ends = target - standoff_m * np.c_[u[0] * c - u[2] * s, np.full(len(angles), u[1]), u[0] * s + u[2] * c]
+    d = ends - start
+    length = np.maximum(np.linalg.norm(d, axis=1), 1e-9)
+    rel = objects - start
+    along = np.clip(rel @ d.T / length, 0.0, length)  # (K, A)
+    dist = np.linalg.norm(rel[:, None, :] - along[:, :, None] * (d / length[:, None])[None], axis=2)
+    return np.min(dist - needed[:, None], axis=0)
+
+
 def _standoffs(standoff_m: float, depth_m: float) -> list[float]:
     """Return the stand-offs to try: ``standoff_m``, then longer by ``STANDOFF_STEP_M`` up to the target's depth
     ``depth_m`` (where the camera is: it stops), m."""
@@ -207,7 +225,8 @@ def plan_way(target_xyz, objects_xyz, standoff_m: float, clearance_m: float, beh
         return abs(w.angle_rad) + (SIDE_PREFERENCE_RAD if side and w.angle_rad * side < 0 else 0.0)
     standoffs = _standoffs(standoff_m, float(target[2]))
     for s in standoffs:
-        clear = [w for w in (_way(target, objects, s, start, a, needed) for a in angles) if w.margin_m >= 0]
+        sieved = np.asarray(angles)[_margins(target, objects, s, start, np.asarray(angles), needed) >= -1e-9]
+        clear = [w for w in (_way(target, objects, s, start, a, needed) for a in sieved.tolist()) if w.margin_m >= 0]
         if clear:
             return min(clear, key=cost)
     return _way(target, objects, standoffs[-1], start, 0.0, needed)
