@@ -86,7 +86,7 @@ class _Steering(MissionState):
         dt = max(stamp - self.last_update_s if self.last_update_s is not None else 0.2, 1e-3)
         self.last_update_s = stamp
         step = self.plan(bb, np.asarray(found.xyz_m, float))
-        bb.servo.standoff_m = bb.config.standoff_m + bb.held_short_m
+        bb.servo.standoff_m = bb.standoff_m
         command = bb.servo.update(tuple(found.left_px), float(found.xyz_m[2]), dt)
         bb.errors = bb.servo.last_errors
         bb.set_command(self.keep_clear(bb, command, step, dt))
@@ -95,7 +95,7 @@ class _Steering(MissionState):
     def plan(self, bb: Blackboard, target: np.ndarray) -> Sidestep | None:
         """Return the way round the known objects (clearance.py) from the stand-off held so far, or None when the
         direct way is clear; a way that holds short lengthens the stand-off held (``bb.held_short_m``)."""
-        step = sidestep(target, target + self.kept_clear_m(bb), bb.config.standoff_m + bb.held_short_m,
+        step = sidestep(target, target + self.kept_clear_m(bb), bb.standoff_m,
                         bb.config.servo_clearance_m, float(bb.servo.max_speed[1]),
                         bb.servo.mount.forward_m + HULL_HALF_LENGTH_M, self.side, bb.tracker.orbited_rad(target))
         if step is not None:

@@ -231,6 +231,12 @@ class Blackboard:
     outbox: list = field(default_factory=list)
     story: list[str] = field(default_factory=list)
 
+    @property
+    def standoff_m(self) -> float:
+        """The approach's stand-off in force: ``servo.standoff_m``, longer by ``held_short_m`` where the way held
+        short, m."""
+        return self.config.standoff_m + self.held_short_m
+
     def say(self, text: str, severity: str = "info", pilot: bool = False) -> None:
         """Add a line to the story; with ``pilot`` also queue it as a STATUSTEXT."""
         self.story.append(f"t={self.now_s:.2f} {text}")

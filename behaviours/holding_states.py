@@ -62,7 +62,7 @@ class Done(_ReleaseWatch):
         bb.arrived = True
         bb.arrivals += 1
         e = bb.errors
-        rng = bb.config.standoff_m + bb.held_short_m + (e.range_m if e is not None and e.range_m is not None else 0.0)
+        rng = bb.standoff_m + (e.range_m if e is not None and e.range_m is not None else 0.0)
         px = e.pixel_px if e is not None else float("nan")
         held = f" (held short by {bb.held_short_m:.1f} m)" if bb.held_short_m > 0 else ""
         bb.say(f"arrived: range {rng:.2f} m{held}, {px:.0f} px off", pilot=True)
