@@ -77,6 +77,7 @@ class BehaviourConfig:
     track_zoom_m: float = 0.3
     track_pool_below: int = 50
     track_neighbours: bool = True
+    track_surface_slope: float = 2.0
     lost_grace_s: float = 1.0
     lost_timeout_s: float = 6.0
     servo_timeout_s: float = 90.0

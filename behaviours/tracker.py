@@ -74,6 +74,7 @@ class TrackerConfig:
     object_radius_m: float = 0.15
     max_extent_m: float = 0.6
     refuse_neighbours: bool = True
+    surface_slope: float = 2.0
 
     @classmethod
     def from_params(cls, params: Mapping) -> "TrackerConfig":
@@ -86,7 +87,8 @@ class TrackerConfig:
                    near_m=params["behaviour.track_near_m"], pool_below=params["behaviour.track_pool_below"],
                    object_radius_m=params["selection.object_radius_m"],
                    max_extent_m=params["selection.target_max_extent_m"],
-                   refuse_neighbours=params["behaviour.track_neighbours"])
+                   refuse_neighbours=params["behaviour.track_neighbours"],
+                   surface_slope=params["behaviour.track_surface_slope"])
 
 
 @dataclass(frozen=True)
@@ -351,7 +353,7 @@ class TargetTracker:
             return None
         c = self.config
         objects = group_objects(candidates, xyz_m, self.rig, c.group_radius_px, c.group_radius_m,
-                                c.min_object_features, c.object_radius_m, c.max_extent_m)
+                                c.min_object_features, c.object_radius_m, c.max_extent_m, c.surface_slope)
         if not objects:
             return None
         # each part of the model separately: the same feature in both would defeat the ratio test

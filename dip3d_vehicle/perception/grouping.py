@@ -44,7 +44,7 @@ SPLIT_MAX_FEATURES = 400
 
 def group_objects(candidates: Candidates, xyz_m: np.ndarray, rig: StereoRig, radius_px: float,
                   radius_m: float, min_features: int, object_radius_m: float = 0.15,
-                  max_extent_m: float = math.inf) -> list[ObjectCandidate]:
+                  max_extent_m: float = math.inf, surface_slope: float = 0.0) -> list[ObjectCandidate]:
     """Group matched features into objects: chains of neighbours, then fragments of one object.
 
     Stage 1 links two features within ``radius_px`` in the left image whose depths differ by less
@@ -55,6 +55,14 @@ def group_objects(candidates: Candidates, xyz_m: np.ndarray, rig: StereoRig, rad
     at different depths must not be chained). Objects with fewer than ``min_features`` members are
     dropped. An object's centre is the median disparity triangulated at the median left-image
     position (robust to stray matches).
+
+    With ``surface_slope`` > 0, two fragments whose centres lie within ``object_radius_m`` ACROSS the line
+    of sight also merge when their depths differ by at most ``surface_slope`` times that distance: one
+    surface seen obliquely. A placard seen 50-60 deg from face-on at 1 m breaks around its featureless
+    middle into a near and a far part 0.12 m apart across and 0.13 m in depth (0.18 m in 3D); the tracker
+    then took one part or the other from frame to frame and the target's range jumped by 0.07 m (paper_pool
+    seed 0 on the ArduSub firmware, issue 11 session 54). Two objects one behind the other (little across,
+    much in depth) stay apart.
     """
     n = len(candidates)
     if n == 0:
@@ -73,10 +81,7 @@ def group_objects(candidates: Candidates, xyz_m: np.ndarray, rig: StereoRig, rad
     ok = np.all(np.isfinite(centres), axis=1)
     if ok.sum() > 1:
         idx = np.nonzero(ok)[0]
-        close = cKDTree(centres[idx]).query_pairs(object_radius_m, output_type="ndarray")
-        if len(close):
-            za, zb = centres[idx[close[:, 0]], 2], centres[idx[close[:, 1]], 2]
-            close = close[_depths_agree(za, zb, *rig.depth_sigma_m(np.stack([za, zb]), MATCH_SIGMA_PX), radius_m)]
+        close = _close_fragments(centres[idx], rig, radius_m, object_radius_m, surface_slope)
         merged = _components(len(idx), close)
         groups = [np.concatenate([groups[idx[k]] for k in ks]) for ks in _groups(merged)]
     groups = _join_small_fragments(groups, xyz_m, sig, radius_m, min_features, object_radius_m)
@@ -171,9 +176,27 @@ def _least_cut(members: np.ndarray, pairs: np.ndarray) -> tuple[float, np.ndarra
 
 
 def _depths_agree(za: np.ndarray, zb: np.ndarray, sigma_a: np.ndarray, sigma_b: np.ndarray,
-                  radius_m: float) -> np.ndarray:
-    """Return whether two depths (metres) may be one surface: apart by at most max(radius_m, 3 combined sigmas)."""
-    return np.abs(za - zb) <= np.maximum(radius_m, 3.0 * np.hypot(sigma_a, sigma_b))
+                  radius_m: float, slack_m: np.ndarray | float = 0.0) -> np.ndarray:
+    """Return whether two depths (metres) may be one surface: apart by at most max(radius_m, 3 combined sigmas,
+    ``slack_m``)."""
+    return np.abs(za - zb) <= np.maximum(np.maximum(radius_m, 3.0 * np.hypot(sigma_a, sigma_b)), slack_m)
+
+
+def _close_fragments(centres: np.ndarray, rig: StereoRig, radius_m: float, object_radius_m: float,
+                     surface_slope: float) -> np.ndarray:
+    """Return the pairs (K, 2) of fragment centres (metres) that are one object: within ``object_radius_m`` in 3D
+    with agreeing depths, or (``surface_slope`` > 0) within it across the line of sight with depths apart by at most
+    ``surface_slope`` times that distance."""
+    across = surface_slope > 0
+    close = cKDTree(centres[:, :2] if across else centres).query_pairs(object_radius_m, output_type="ndarray")
+    if not len(close):
+        return close
+    a, b = centres[close[:, 0]], centres[close[:, 1]]
+    agree = _depths_agree(a[:, 2], b[:, 2], *rig.depth_sigma_m(np.stack([a[:, 2], b[:, 2]]), MATCH_SIGMA_PX), radius_m)
+    if across:
+        sloped = np.abs(a[:, 2] - b[:, 2]) <= surface_slope * np.hypot(*(a[:, :2] - b[:, :2]).T)
+        agree = (agree & (np.linalg.norm(a - b, axis=1) <= object_radius_m)) | sloped
+    return close[agree]
 
 
 def _join_small_fragments(groups: list[np.ndarray], xyz_m: np.ndarray, sigma_m: np.ndarray, radius_m: float,

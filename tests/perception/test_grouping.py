@@ -93,3 +93,27 @@ def test_two_placards_side_by_side_are_never_summed_as_one_target():
         assert sel.confidence == pytest.approx(float(sel.scores[sel.index])) and sel.ambiguous
         summed, _, _ = _select(arm, pts, **{"selection.target_max_extent_m": 5.0})
         assert summed.confidence > 0.8 and not summed.ambiguous  # one target of two placards: confidently wrong
+
+
+def oblique_placard(angle_deg: float, depth_m: float = 1.0, gap_m: float = 0.12) -> np.ndarray:
+    """Return features on a 0.3 m placard turned ``angle_deg`` from face-on about the vertical at ``depth_m``, with
+    a plain band ``gap_m`` wide down its middle (the digit's disc), metres."""
+    grid = placard(0.0, seed=5)[:, :2]
+    grid = grid[np.abs(grid[:, 0]) > gap_m / 2]
+    a = np.radians(angle_deg)
+    return np.c_[grid[:, 0] * np.cos(a), grid[:, 1], depth_m + grid[:, 0] * np.sin(a)]
+
+
+def test_an_obliquely_seen_placard_broken_around_its_plain_middle_is_one_object_with_a_surface_slope():
+    """55 deg from face-on at 1 m, the two halves lie 0.12 m apart across and 0.17 m in depth (0.21 m in 3D): two
+    objects for the selector's grouping, one for the tracker's (``surface_slope`` 2, paper_pool seed 0 on the
+    firmware, issue 11 session 54); a placard behind another (0.1 m across, 0.3 m deeper) stays apart."""
+    pts = oblique_placard(55.0)
+    cands, xyz = candidates_of(pts)
+    assert len(group_objects(cands, xyz, RIG, 20.0, 0.05, 3)) == 2
+    objs = group_objects(cands, xyz, RIG, 20.0, 0.05, 3, surface_slope=2.0)
+    assert len(objs) == 1 and len(objs[0].members) == len(pts)
+    assert objs[0].xyz_m == pytest.approx([0.0, 0.0, 1.0], abs=0.02)
+    behind = placard(0.1, side_m=0.15, seed=6) + [0.0, 0.0, 1.3 - Z_M]
+    cands, xyz = candidates_of(np.vstack([placard(0.0, side_m=0.15, seed=7) + [0.0, 0.0, 1.0 - Z_M], behind]))
+    assert len(group_objects(cands, xyz, RIG, 20.0, 0.05, 3, surface_slope=2.0)) == 2
