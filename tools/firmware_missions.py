@@ -4,7 +4,8 @@ usage: .venv/bin/python tools/firmware_missions.py BINARY --mode manual_control 
        [--builtin] [--out results.jsonl]
 
 One JSON line per mission: autopilot (firmware / builtin), mode, seed, arrived, target, chosen,
-time to arrive, range error at arrival, simulated and wall time. Firmware missions run in wall-clock
+time to arrive, range error at arrival, simulated and wall time, the least distance to each placard's face
+and to the diver, and the stand-off held short. Firmware missions run in wall-clock
 time x speedup, one at a time, each with its own -I instance.
 """
 
@@ -24,7 +25,7 @@ from sitl.scenario import load_scenario  # noqa: E402
 from sitl.simulation import Simulation, sim_params  # noqa: E402
 
 KEYS = ("arrived", "target_id", "chosen_id", "time_to_arrive_s", "range_error_at_arrival_m", "sim_time_s",
-        "wall_time_s")
+        "wall_time_s", "closest_m", "closest_diver_m", "held_short_m")
 
 
 def main() -> int:

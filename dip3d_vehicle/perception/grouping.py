@@ -176,10 +176,9 @@ def _least_cut(members: np.ndarray, pairs: np.ndarray) -> tuple[float, np.ndarra
 
 
 def _depths_agree(za: np.ndarray, zb: np.ndarray, sigma_a: np.ndarray, sigma_b: np.ndarray,
-                  radius_m: float, slack_m: np.ndarray | float = 0.0) -> np.ndarray:
-    """Return whether two depths (metres) may be one surface: apart by at most max(radius_m, 3 combined sigmas,
-    ``slack_m``)."""
-    return np.abs(za - zb) <= np.maximum(np.maximum(radius_m, 3.0 * np.hypot(sigma_a, sigma_b)), slack_m)
+                  radius_m: float) -> np.ndarray:
+    """Return whether two depths (metres) may be one surface: apart by at most max(radius_m, 3 combined sigmas)."""
+    return np.abs(za - zb) <= np.maximum(radius_m, 3.0 * np.hypot(sigma_a, sigma_b))
 
 
 def _close_fragments(centres: np.ndarray, rig: StereoRig, radius_m: float, object_radius_m: float,
