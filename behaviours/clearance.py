@@ -37,7 +37,7 @@ from dataclasses import dataclass
 import numpy as np
 
 __all__ = ["HULL_HALF_LENGTH_M", "MAX_ORBIT_RAD", "ORBIT_STEP_RAD", "STANDOFF_STEP_M", "Sidestep", "Way",
-           "approach_end_m", "distance_to_path_m", "orbit_end_m", "plan_way", "sidestep"]
+           "approach_end_m", "distance_to_path_m", "orbit_end_m", "orbit_ends_m", "plan_way", "sidestep"]
 
 GAIN_PER_S = 1.0
 """Sway speed per metre of lateral offset from the way's stand-off point, 1/s (capped by the servo's sway limit)."""
@@ -116,14 +116,18 @@ def orbit_end_m(target_xyz, standoff_m: float, angle_rad: float) -> np.ndarray:
         >>> np.round(orbit_end_m([0.0, 0.0, 2.0], 1.0, math.radians(90)), 3).tolist()  # beside the target
         [1.0, 0.0, 2.0]
     """
+    return orbit_ends_m(target_xyz, standoff_m, np.array([angle_rad]))[0]
+
+
+def orbit_ends_m(target_xyz, standoff_m: float, angles_rad: np.ndarray) -> np.ndarray:
+    """Return the stand-off point turned by each of ``angles_rad`` about the target's vertical, (A, 3) metres
+    (``approach_end_m`` for every angle when the target is no farther than the stand-off)."""
     t = np.asarray(target_xyz, float)
     rng = float(np.linalg.norm(t))
     if rng <= standoff_m or rng < 1e-9:
-        return approach_end_m(t, standoff_m)
-    u = t / rng
-    c, s = math.cos(angle_rad), math.sin(angle_rad)
-    turned = np.array([u[0] * c - u[2] * s, u[1], u[0] * s + u[2] * c])
-    return t - standoff_m * turned
+        return np.repeat(approach_end_m(t, standoff_m)[None], len(angles_rad), axis=0)
+    u, c, s = t / rng, np.cos(angles_rad), np.sin(angles_rad)
+    return t - standoff_m * np.c_[u[0] * c - u[2] * s, np.full(len(angles_rad), u[1]), u[0] * s + u[2] * c]
 
 
 def distance_to_path_m(points: np.ndarray, start: np.ndarray, end: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -160,13 +164,7 @@ def _margins(target: np.ndarray, objects: np.ndarray, standoff_m: float, start: 
              needed: np.ndarray) -> np.ndarray:
     """Return the margin (``Way.margin_m``) of the way turned by each of ``angles``, all at once (the search's
     sieve: ``_way`` gives the way itself), metres."""
-    rng = float(np.linalg.norm(target))
-    if rng <= standoff_m or rng < 1e-9:
-        ends = np.repeat(approach_end_m(target, standoff_m)[None], len(angles), axis=0)
-    else:
-        u, c, s = target / rng, np.cos(angles), np.sin(angles)
-        ends = target - standoff_m * np.c_[u[0] * c - u[2] * s, np.full(len(angles), u[1]), u[0] * s + u[2] * c]
-    d = ends - start
+    d = orbit_ends_m(target, standoff_m, angles) - start
     length = np.maximum(np.linalg.norm(d, axis=1), 1e-9)
     rel = objects - start
     along = np.clip(rel @ d.T / length, 0.0, length)  # (K, A)
