@@ -18,8 +18,9 @@ from .tracker import TrackedTarget
 __all__ = ["Acknowledge", "Servo", "LostTarget", "Arrive", "within", "SETTLE_WINDOW_S"]
 
 SETTLE_WINDOW_S = 1.0
-"""Arrive: the range's rate is also taken over this long, s (a coasting vehicle still shows: ALT_HOLD's 0.06 m/s
-coast moves 6 cm in it, against a centimetre of stereo jitter)."""
+"""Arrive judges the servo's errors over this long, s: their medians (a tracked centre that jumps on one frame, to
+another part of the placard, neither drifts nor restarts the hold) and the range's rate (a coasting vehicle still
+shows: ALT_HOLD's 0.06 m/s coast moves 6 cm in it, against a centimetre of stereo jitter)."""
 
 
 class Acknowledge(MissionState):
@@ -51,10 +52,16 @@ class Acknowledge(MissionState):
 
 def within(bb: Blackboard, factor: float) -> bool:
     """Return True when the last servo errors are inside the arrive tolerances times ``factor``."""
-    e, c = bb.errors, bb.config
+    e = bb.errors
     if e is None or e.range_m is None:
         return False
-    return e.pixel_px <= c.arrive_tolerance_px * factor and abs(e.range_m) <= c.arrive_tolerance_m * factor
+    return inside(bb, e.pixel_px, e.range_m, factor)
+
+
+def inside(bb: Blackboard, pixel_px: float, range_m: float, factor: float) -> bool:
+    """Return True when a pixel error (px) and a range error (m) are inside the arrive tolerances times ``factor``."""
+    c = bb.config
+    return pixel_px <= c.arrive_tolerance_px * factor and abs(range_m) <= c.arrive_tolerance_m * factor
 
 
 class _Steering(MissionState):
@@ -217,6 +224,9 @@ class LostTarget(MissionState):
 class Arrive(_Steering):
     """Centred and at the stand-off: keep correcting; done once inside tolerance and settled for the hold time.
 
+    The servo's errors are judged by their medians over the last ``SETTLE_WINDOW_S``: the tracked centre of a
+    placard can jump to another part of it for a frame (0.1 m, 60 px at 1.2 m: which of its features matched), and
+    one such frame neither sends the vehicle back to servo nor restarts the hold (issue 11 session 55).
     Settled: the target's range changes by less than ``behaviour.arrive_max_range_rate_m_s`` between
     frames (in ALT_HOLD nothing brakes the vehicle horizontally: a coasting vehicle is not arrived), or, with
     the sidestep on (``behaviour.servo_clearance_m`` > 0), over the last ``SETTLE_WINDOW_S``: after a sidestep
@@ -234,7 +244,7 @@ class Arrive(_Steering):
         super().enter(bb)
         self.last_range_m: float | None = None
         self.inside_since: float | None = None
-        self.ranges: list[tuple[float, float]] = []  # (stamp s, range m) over the last SETTLE_WINDOW_S
+        self.window: list[tuple[float, float, float]] = []  # (stamp s, pixel px, range m) over SETTLE_WINDOW_S
 
     def missed(self, bb: Blackboard) -> str | None:
         """Restart the hold time; ``lost`` once the tracker gave the target up."""
@@ -245,15 +255,18 @@ class Arrive(_Steering):
         """Keep correcting; ``drifted`` outside tolerance x hysteresis, ``held`` once settled for the hold time."""
         c = bb.config
         dt = self.steer(bb, found)
-        if not within(bb, c.arrive_hysteresis):
-            return "drifted"
         stamp, rng = bb.observation.stamp_s, bb.errors.range_m
+        if rng is None:
+            return "drifted"
+        pixel_px, range_m = self.medians(stamp, bb.errors.pixel_px, rng)
+        if not inside(bb, pixel_px, range_m, c.arrive_hysteresis):
+            return "drifted"
         rate = abs(rng - self.last_range_m) / max(dt, 1e-3) if self.last_range_m is not None else float("inf")
         self.last_range_m = rng
         if c.servo_clearance_m > 0:  # a sidestep may leave the target seen at an angle
-            rate = min(rate, self.window_rate(stamp, rng))
+            rate = min(rate, self.window_rate())
         on_way_end = abs(self.offset_m) <= c.arrive_tolerance_m  # a way round objects ends turned about the target
-        if within(bb, 1.0) and rate <= c.arrive_max_range_rate_m_s and on_way_end:
+        if inside(bb, pixel_px, range_m, 1.0) and rate <= c.arrive_max_range_rate_m_s and on_way_end:
             if self.inside_since is None:
                 self.inside_since = stamp
             if stamp - self.inside_since >= c.arrive_hold_s:
@@ -262,9 +275,14 @@ class Arrive(_Steering):
             self.inside_since = None
         return None
 
-    def window_rate(self, stamp_s: float, range_m: float) -> float:
-        """Return the range's rate of change over the last ``SETTLE_WINDOW_S`` (inf until it spans 80 % of it), m/s."""
-        self.ranges = [(t, r) for t, r in self.ranges if stamp_s - t <= SETTLE_WINDOW_S + 1e-9] + [(stamp_s, range_m)]
-        t0, r0 = self.ranges[0]
-        span = stamp_s - t0
-        return abs(range_m - r0) / span if span >= 0.8 * SETTLE_WINDOW_S else float("inf")
+    def medians(self, stamp_s: float, pixel_px: float, range_m: float) -> tuple[float, float]:
+        """Add this frame's errors to the window; return the window's median pixel error (px) and range error (m)."""
+        self.window = [w for w in self.window if stamp_s - w[0] <= SETTLE_WINDOW_S + 1e-9] + [(stamp_s, pixel_px, range_m)]
+        errors = np.array([w[1:] for w in self.window])
+        return float(np.median(errors[:, 0])), float(np.median(errors[:, 1]))
+
+    def window_rate(self) -> float:
+        """Return the range's rate of change over the window (inf until it spans 80 % of ``SETTLE_WINDOW_S``), m/s."""
+        (t0, _, r0), (t1, _, r1) = self.window[0], self.window[-1]
+        span = t1 - t0
+        return abs(r1 - r0) / span if span >= 0.8 * SETTLE_WINDOW_S else float("inf")
