@@ -11,7 +11,7 @@ from dip3d_vehicle.servo import VelocityCommand
 
 from .acknowledge import Acknowledgement
 from .blackboard import Blackboard
-from .clearance import HULL_HALF_LENGTH_M, Sidestep, sidestep
+from .clearance import DIRECT_BAND_M, HULL_HALF_LENGTH_M, Sidestep, sidestep
 from .mission_state import MissionState, track_target
 from .tracker import TrackedTarget
 
@@ -77,6 +77,7 @@ class _Steering(MissionState):
         self.sway_m_s = 0.0  # the sidestep's sway in force (keep_clear), m/s
         self.offset_m = 0.0  # the way's stand-off point's lateral offset from the camera, m
         self.side = 0.0  # the side of the way chosen last (its sign; 0: none yet)
+        self.direct = False  # the last frame's way was the direct way (it keeps it within DIRECT_BAND_M)
         self.told: tuple | None = None  # (side, clear) last said
 
     def timed_out(self, bb: Blackboard) -> bool:
@@ -104,7 +105,9 @@ class _Steering(MissionState):
         direct way is clear; a way that holds short lengthens the stand-off held (``bb.held_short_m``)."""
         step = sidestep(target, target + self.kept_clear_m(bb), bb.standoff_m,
                         bb.config.servo_clearance_m, float(bb.servo.max_speed[1]),
-                        bb.servo.mount.forward_m + HULL_HALF_LENGTH_M, self.side, bb.tracker.orbited_rad(target))
+                        bb.servo.mount.forward_m + HULL_HALF_LENGTH_M, self.side, bb.tracker.orbited_rad(target),
+                        direct_band_m=DIRECT_BAND_M if self.direct else 0.0)
+        self.direct = step is None
         if step is not None:
             self.tell_way(bb, target, step)
             bb.held_short_m = max(bb.held_short_m, step.way.standoff_m - bb.config.standoff_m)

@@ -36,7 +36,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["HULL_HALF_LENGTH_M", "MAX_ORBIT_RAD", "ORBIT_STEP_RAD", "STANDOFF_STEP_M", "Sidestep", "Way",
+__all__ = ["DIRECT_BAND_M", "HULL_HALF_LENGTH_M", "MAX_ORBIT_RAD", "ORBIT_STEP_RAD", "STANDOFF_STEP_M", "Sidestep", "Way",
            "approach_end_m", "distance_to_path_m", "orbit_end_m", "orbit_ends_m", "plan_way", "sidestep"]
 
 GAIN_PER_S = 1.0
@@ -55,6 +55,12 @@ round (60 deg, tried) its stereo range and image position jitter so that arrive 
 
 SIDE_PREFERENCE_RAD = math.radians(10.0)
 """A clear way on the side chosen before wins over one on the other side turned up to this much less, rad."""
+
+DIRECT_BAND_M = 0.05
+"""A direct way taken on the last frame stays taken while it falls short of the clearance by no more than this, m:
+the plan is made again on every frame, and a way on the edge of clear (the stand-off held short beside the diver)
+went direct, turned 5 deg one way, direct, 5 deg the other, each with a 0.19 m sway, and the vehicle could not settle
+for 10 s (``paper_pool`` seed 9 from pixels, issue 11 session 55)."""
 
 STANDOFF_STEP_M = 0.1
 """When no way at the stand-off is clear, longer stand-offs are tried in steps of this, m (the vehicle holds short)."""
@@ -180,7 +186,7 @@ def _standoffs(standoff_m: float, depth_m: float) -> list[float]:
 
 
 def plan_way(target_xyz, objects_xyz, standoff_m: float, clearance_m: float, behind_m: float = 0.0,
-             side: float = 0.0, orbited_rad: float = 0.0) -> Way | None:
+             side: float = 0.0, orbited_rad: float = 0.0, direct_band_m: float = 0.0) -> Way | None:
     """Return the way to take round the objects, or None when the direct way is clear (or no clearance is asked).
 
     An object already nearer the hull's rear than ``clearance_m`` (beside the hull) can be kept no further than it
@@ -196,6 +202,8 @@ def plan_way(target_xyz, objects_xyz, standoff_m: float, clearance_m: float, beh
             ``SIDE_PREFERENCE_RAD`` less.
         orbited_rad: how far the vehicle has gone round the target already (positive: right), rad: no way takes it
             beyond ``MAX_ORBIT_RAD``.
+        direct_band_m: the direct way is taken while it falls short of the clearance by no more than this, m
+            (``DIRECT_BAND_M`` when it was taken on the last frame: a hysteresis).
 
     Returns:
         The least turned clear way at the shortest stand-off that has one (from ``standoff_m`` up, in
@@ -215,7 +223,7 @@ def plan_way(target_xyz, objects_xyz, standoff_m: float, clearance_m: float, beh
     start = np.array([0.0, 0.0, -behind_m])
     needed = np.minimum(clearance_m, np.linalg.norm(objects - start, axis=1) - 1e-6)
     angles = _angles(side, orbited_rad)
-    if _way(target, objects, standoff_m, start, 0.0, needed).margin_m >= 0:
+    if _way(target, objects, standoff_m, start, 0.0, needed).margin_m >= -direct_band_m:
         return None
 
     def cost(w: Way) -> float:
@@ -232,14 +240,15 @@ def plan_way(target_xyz, objects_xyz, standoff_m: float, clearance_m: float, beh
 
 def sidestep(target_xyz, objects_xyz, standoff_m: float, clearance_m: float, max_sway_m_s: float,
              behind_m: float = 0.0, side: float = 0.0, orbited_rad: float = 0.0,
-             gain_per_s: float = GAIN_PER_S) -> Sidestep | None:
+             gain_per_s: float = GAIN_PER_S, direct_band_m: float = 0.0) -> Sidestep | None:
     """Return how to follow the way round the objects (``plan_way``), or None when the direct way is clear.
 
     The sway is taken across the line of sight to the target (horizontal), so a target still off-centre does not
     sway the vehicle while the yaw centres it.
 
     Args:
-        target_xyz, objects_xyz, standoff_m, clearance_m, behind_m, side, orbited_rad: as ``plan_way``.
+        target_xyz, objects_xyz, standoff_m, clearance_m, behind_m, side, orbited_rad, direct_band_m: as
+            ``plan_way``.
         max_sway_m_s: the sway limit, m/s.
         gain_per_s: sway speed per metre of offset from the way's stand-off point, 1/s.
 
@@ -248,7 +257,7 @@ def sidestep(target_xyz, objects_xyz, standoff_m: float, clearance_m: float, max
         >>> s.sway_m_s < 0, s.clear  # sway left, round it
         (True, True)
     """
-    way = plan_way(target_xyz, objects_xyz, standoff_m, clearance_m, behind_m, side, orbited_rad)
+    way = plan_way(target_xyz, objects_xyz, standoff_m, clearance_m, behind_m, side, orbited_rad, direct_band_m)
     if way is None:
         return None
     lateral, forward = _across_and_along(np.asarray(target_xyz, float), way.end_xyz)

@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from behaviours.clearance import (STANDOFF_STEP_M, approach_end_m, distance_to_path_m, orbit_end_m, plan_way,
+from behaviours.clearance import (DIRECT_BAND_M, STANDOFF_STEP_M, approach_end_m, distance_to_path_m, orbit_end_m, plan_way,
                                   sidestep, MAX_ORBIT_RAD)
 
 TARGET = [0.0, 0.0, 2.0]  # 2 m ahead; with a 1 m stand-off the approach ends 1 m ahead
@@ -160,3 +160,12 @@ def test_the_vehicle_goes_round_the_target_no_further_than_the_limit_in_all():
     way = plan_way(TARGET, ahead, 1.0, 0.6, side=1.0, orbited_rad=gone)
     assert gone + way.angle_rad <= MAX_ORBIT_RAD + 1e-9  # no further right than the limit: left, or direct
     assert way.angle_rad <= math.radians(5) + 1e-9
+
+
+def test_a_direct_way_taken_stays_taken_within_the_band_not_beyond():
+    """The direct way 0.03 m short of the clearance is left for a turn, unless it was taken on the last frame
+    (``direct_band_m``: a hysteresis against a way on the edge of clear); 0.07 m short is left either way."""
+    assert plan_way(TARGET, [[0.57, 0.0, 0.5]], 1.0, 0.6) is not None
+    assert plan_way(TARGET, [[0.57, 0.0, 0.5]], 1.0, 0.6, direct_band_m=DIRECT_BAND_M) is None
+    assert sidestep(TARGET, [[0.57, 0.0, 0.5]], 1.0, 0.6, 0.3, direct_band_m=DIRECT_BAND_M) is None
+    assert plan_way(TARGET, [[0.53, 0.0, 0.5]], 1.0, 0.6, direct_band_m=DIRECT_BAND_M).angle_rad < 0

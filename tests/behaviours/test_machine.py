@@ -515,3 +515,31 @@ def test_arrive_judges_the_errors_over_its_window_not_one_frame(rig, jump_frames
         assert len(states) == 10  # held at 2.0 s: inside from the second frame (the rate needs two), 1.5 s hold
     else:
         assert len(states) <= 7  # back to servo by 1.4 s, 0.6 s after the centre moved
+
+
+def _beside_the_way(m, short_m: float) -> np.ndarray:
+    """An object beside the middle of the direct way to the tracked target, ``short_m`` nearer it than the
+    clearance (negative: farther), as an offset from the target (metres)."""
+    from behaviours.clearance import HULL_HALF_LENGTH_M, approach_end_m
+
+    target = np.asarray(m.bb.tracker.xyz_m, float)
+    start = np.array([0.0, 0.0, -(m.bb.servo.mount.forward_m + HULL_HALF_LENGTH_M)])
+    d = approach_end_m(target, m.bb.standoff_m) - start
+    across = np.array([d[2], 0.0, -d[0]]) / math.hypot(d[0], d[2])
+    return (start + d / 2 + across * (m.bb.config.servo_clearance_m - short_m) - target)[None]
+
+
+def test_the_servo_keeps_the_direct_way_while_it_falls_short_by_less_than_the_band(rig):
+    """A way on the edge of clear does not flip: the direct way, taken, stays while an object comes 0.03 m inside the
+    clearance (a fresh plan would turn), and is left at 0.09 m inside."""
+    m, frame = _servoing(rig, **{"behaviour.servo_clearance_m": 0.6})
+    sways = []
+    for k, short in enumerate((-0.1, 0.03, 0.09), start=1):
+        m.bb.tracker.neighbours_m = _beside_the_way(m, short)
+        _tick_at(m, 0.2 * k, frame)
+        sways.append(m.bb.command.sway_m_s)
+    assert sways[0] == sways[1] == 0.0 and sways[2] != 0.0
+    enter(m, "servo")  # a fresh plan: no direct way taken on the last frame
+    m.bb.tracker.neighbours_m = _beside_the_way(m, 0.03)
+    _tick_at(m, 0.8, frame)
+    assert m.bb.command.sway_m_s != 0.0
