@@ -280,7 +280,8 @@ class Arrive(_Steering):
 
     def medians(self, stamp_s: float, pixel_px: float, range_m: float) -> tuple[float, float]:
         """Add this frame's errors to the window; return the window's median pixel error (px) and range error (m)."""
-        self.window = [w for w in self.window if stamp_s - w[0] <= SETTLE_WINDOW_S + 1e-9] + [(stamp_s, pixel_px, range_m)]
+        kept = [w for w in self.window if stamp_s - w[0] <= SETTLE_WINDOW_S + 1e-9]
+        self.window = kept + [(stamp_s, pixel_px, range_m)]
         errors = np.array([w[1:] for w in self.window])
         return float(np.median(errors[:, 0])), float(np.median(errors[:, 1]))
 

@@ -7,8 +7,8 @@ import math
 import numpy as np
 import pytest
 
-from behaviours.clearance import (DIRECT_BAND_M, STANDOFF_STEP_M, approach_end_m, distance_to_path_m, orbit_end_m, plan_way,
-                                  sidestep, MAX_ORBIT_RAD)
+from behaviours.clearance import (DIRECT_BAND_M, STANDOFF_STEP_M, approach_end_m, distance_to_path_m, orbit_end_m,
+                                  plan_way, sidestep, MAX_ORBIT_RAD)
 
 TARGET = [0.0, 0.0, 2.0]  # 2 m ahead; with a 1 m stand-off the approach ends 1 m ahead
 
