@@ -1,5 +1,6 @@
 """Each servo / arrive frame of one mission: the servo's pixel and range errors against the arrive tolerances, the
-target's position (camera frame, metres) and the trigger the state returned, to see why arrive goes back to servo.
+target's position (camera frame, metres) and the trigger the state returned, to see why arrive goes back to servo;
+then the outcome and the mission's story (without the pilot's echoes).
 
     PYTHONPATH=TREE python docs/issue11/session55/scripts/arrive_trace.py SCENARIO SEED [KEY=VALUE ...]
 """
@@ -37,3 +38,6 @@ try:
 finally:
     sim.close()
 print(res.outcome, res.time_to_arrive_s)
+for line in res.story:
+    if "pilot heard" not in line:
+        print(line)
