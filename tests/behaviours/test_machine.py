@@ -472,17 +472,24 @@ def test_the_servo_holds_short_when_no_way_keeps_clear(rig):
     assert len([s for s in m.bb.story if "holding short" in s]) == 1
 
 
+def _arriving(rig, **over):
+    """A mission in arrive (hold 1.5 s), engaged and enabled, tracking a target 1 m ahead at the servo's goal pixel;
+    return it and that pixel (u, v)."""
+    m = engaged_mission(rig, **{"behaviour.arrive_hold_s": 1.5, **over})
+    u, v = m.bb.servo.desired_px
+    cands, _, obj = target_frame(rig, xyz=(0.0, 0.0, 1.0), px=(u, v))
+    m.bb.tracker.start(obj, cands, 0.0)
+    m.bb.operator_enabled = True
+    enter(m, "arrive")
+    return m, (u, v)
+
+
 @pytest.mark.parametrize("step_m, clearance_m, held", [(0.0, 0.6, True), (0.012, 0.6, False), (0.0, 0.0, False)])
 def test_arrive_settles_through_a_centimetre_of_range_jitter_but_not_while_coasting(rig, step_m, clearance_m, held):
     """With the sidestep on, arrive's range rate is also taken over ``SETTLE_WINDOW_S``: a standing vehicle whose
     target's stereo range jitters by 1 cm per frame (0.05 m/s frame to frame) is settled; one coasting at 0.06 m/s
     (1.2 cm per frame) is not. With it off, the frame-to-frame rate alone decides, as before."""
-    m = engaged_mission(rig, **{"behaviour.arrive_hold_s": 1.5, "behaviour.servo_clearance_m": clearance_m})
-    u, v = m.bb.servo.desired_px
-    cands, pts, obj = target_frame(rig, xyz=(0.0, 0.0, 1.0), px=(u, v))
-    m.bb.tracker.start(obj, cands, 0.0)
-    m.bb.operator_enabled = True
-    enter(m, "arrive")
+    m, (u, v) = _arriving(rig, **{"behaviour.servo_clearance_m": clearance_m})
     for k in range(1, 16):  # 3 s, all inside the 0.1 m range tolerance
         depth = 1.0 + 0.01 * (k % 2) if not step_m else 1.08 - step_m * k
         c, p, _ = target_frame(rig, xyz=(0.0, 0.0, depth), px=(u, v))
@@ -497,12 +504,7 @@ def test_arrive_judges_the_errors_over_its_window_not_one_frame(rig, jump_frames
     """The tracked centre of a placard can jump to another part of it for a frame (70 px, past tolerance x
     hysteresis): arrive neither goes back to servo nor restarts the hold for one such frame, and holds in the time it
     would have without it. A centre that stays off (the vehicle drifted) is ``drifted`` within the window (1 s)."""
-    m = engaged_mission(rig, **{"behaviour.arrive_hold_s": 1.5})
-    u, v = m.bb.servo.desired_px
-    cands, pts, obj = target_frame(rig, xyz=(0.0, 0.0, 1.0), px=(u, v))
-    m.bb.tracker.start(obj, cands, 0.0)
-    m.bb.operator_enabled = True
-    enter(m, "arrive")
+    m, (u, v) = _arriving(rig)
     states = []
     for k in range(1, 16):  # 3 s at the stand-off
         c, p, _ = target_frame(rig, xyz=(0.0, 0.0, 1.0), px=(u, v + (70.0 if k in jump_frames else 0.0)))
