@@ -10,8 +10,9 @@ The objects are the decision's other hypotheses (the tracker's known neighbours:
 target, turned by the commanded yaw), so they are remembered after they leave the image. Geometry
 in the rectified left camera frame (x right, y down, z forward, metres), as ``close_in.py``.
 
-The way: the stand-off point may be turned about the target (about the camera's vertical axis, in
-``ORBIT_STEP_RAD`` steps, the vehicle kept within ``MAX_ORBIT_RAD`` of the line it decided from), so
+The way: the stand-off point may be turned about the target (about the camera's vertical axis, tried in
+``ORBIT_STEP_RAD`` steps and the least clear one then narrowed to within ``ORBIT_REFINE_RAD`` of the least clear turn,
+the vehicle kept within ``MAX_ORBIT_RAD`` of the line it decided from), so
 the vehicle ends at the stand-off but looking at the target from the side. A way is the straight
 segment from the hull's rear (``behind_m`` behind the camera: an object the camera has passed still
 lies beside the hull) to its stand-off point; its clearance is the least distance of any object from
@@ -36,7 +37,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["DIRECT_BAND_M", "HULL_HALF_LENGTH_M", "MAX_ORBIT_RAD", "ORBIT_STEP_RAD", "STANDOFF_STEP_M", "Sidestep",
+__all__ = ["DIRECT_BAND_M", "HULL_HALF_LENGTH_M", "MAX_ORBIT_RAD", "ORBIT_REFINE_RAD", "ORBIT_STEP_RAD", "STANDOFF_STEP_M",
+           "Sidestep",
            "Way", "approach_end_m", "distance_to_path_m", "orbit_end_m", "orbit_ends_m", "plan_way", "sidestep"]
 
 GAIN_PER_S = 1.0
@@ -47,6 +49,12 @@ HULL_HALF_LENGTH_M = 0.25
 
 ORBIT_STEP_RAD = math.radians(5.0)
 """The turns of the stand-off point about the target that are tried, in steps of this, rad."""
+
+ORBIT_REFINE_RAD = math.radians(0.25)
+"""The least clear turn is narrowed (bisected) to within this of where its way becomes clear, rad. Replanned from
+wherever the vehicle is, a whole 5 deg step is never nearer: on the edge of clear the sway stayed at the full
+0.19 m/s until the direct way was clear and the vehicle coasted past it (``paper_pool`` seed 9 from pixels,
+issue 11 session 56). Narrowed, the turn, and with it the sway, shrinks as the way comes clear."""
 
 MAX_ORBIT_RAD = math.radians(40.0)
 """The farthest the vehicle goes round the target, either side, from where it decided (what it has gone round
@@ -185,6 +193,16 @@ def _standoffs(standoff_m: float, depth_m: float) -> list[float]:
     return [standoff_m] + [s for s in longer if s < depth_m - 1e-9] + ([depth_m] if depth_m > standoff_m else [])
 
 
+def _narrowed(target: np.ndarray, objects: np.ndarray, start: np.ndarray, way: Way, needed: np.ndarray) -> Way:
+    """Return ``way`` turned less, to within ``ORBIT_REFINE_RAD`` of where it stops being clear (bisected between it
+    and the turn one ``ORBIT_STEP_RAD`` nearer the direct way, which is not clear), at its stand-off."""
+    clear, short = way, way.angle_rad - math.copysign(ORBIT_STEP_RAD, way.angle_rad)
+    while way.angle_rad and abs(clear.angle_rad - short) > ORBIT_REFINE_RAD:
+        mid = _way(target, objects, way.standoff_m, start, 0.5 * (clear.angle_rad + short), needed)
+        clear, short = (mid, short) if mid.margin_m >= 0 else (clear, mid.angle_rad)
+    return clear
+
+
 def plan_way(target_xyz, objects_xyz, standoff_m: float, clearance_m: float, behind_m: float = 0.0,
              side: float = 0.0, orbited_rad: float = 0.0, direct_band_m: float = 0.0) -> Way | None:
     """Return the way to take round the objects, or None when the direct way is clear (or no clearance is asked).
@@ -206,9 +224,9 @@ def plan_way(target_xyz, objects_xyz, standoff_m: float, clearance_m: float, beh
             (``DIRECT_BAND_M`` when it was taken on the last frame: a hysteresis).
 
     Returns:
-        The least turned clear way at the shortest stand-off that has one (from ``standoff_m`` up, in
-        ``STANDOFF_STEP_M`` steps, to the target's depth: the vehicle holds short); when not even stopping where it
-        is keeps clear, the direct way ending there (its margin < 0).
+        The least turned clear way (narrowed to ``ORBIT_REFINE_RAD``) at the shortest stand-off that has one (from
+        ``standoff_m`` up, in ``STANDOFF_STEP_M`` steps, to the target's depth: the vehicle holds short); when not even
+        stopping where it is keeps clear, the direct way ending there (its margin < 0).
 
     Examples:
         >>> way = plan_way([0.0, 0.0, 2.0], [[0.1, 0.0, 1.0]], 1.0, 0.5)  # just right of the stand-off point
@@ -234,7 +252,7 @@ def plan_way(target_xyz, objects_xyz, standoff_m: float, clearance_m: float, beh
         sieved = np.asarray(angles)[_margins(target, objects, s, start, np.asarray(angles), needed) >= -1e-9]
         clear = [w for w in (_way(target, objects, s, start, a, needed) for a in sieved.tolist()) if w.margin_m >= 0]
         if clear:
-            return min(clear, key=cost)
+            return _narrowed(target, objects, start, min(clear, key=cost), needed)
     return _way(target, objects, standoffs[-1], start, 0.0, needed)
 
 

@@ -7,8 +7,8 @@ import math
 import numpy as np
 import pytest
 
-from behaviours.clearance import (DIRECT_BAND_M, STANDOFF_STEP_M, approach_end_m, distance_to_path_m, orbit_end_m,
-                                  plan_way, sidestep, MAX_ORBIT_RAD)
+from behaviours.clearance import (DIRECT_BAND_M, ORBIT_REFINE_RAD, ORBIT_STEP_RAD, STANDOFF_STEP_M, approach_end_m,
+                                  distance_to_path_m, orbit_end_m, plan_way, sidestep, MAX_ORBIT_RAD)
 
 TARGET = [0.0, 0.0, 2.0]  # 2 m ahead; with a 1 m stand-off the approach ends 1 m ahead
 
@@ -50,12 +50,25 @@ def test_an_object_beside_the_stand_off_point_turns_the_way_to_the_other_side(x)
     assert way is not None and np.sign(way.angle_rad) == -np.sign(x) and way.clearance_m >= 0.6
     smaller = plan_way(TARGET, [[x, 0.0, 1.0]], 1.0, 0.6, side=-np.sign(x))
     assert smaller.angle_rad == way.angle_rad  # the least turn that is clear
-    dist, _ = distance_to_path_m(np.array([[x, 0.0, 1.0]]), np.zeros(3),
-                                 orbit_end_m(TARGET, 1.0, way.angle_rad - np.sign(way.angle_rad) * math.radians(5)))
-    assert dist[0] < 0.6  # one step less would not be clear
+    less = way.angle_rad - np.sign(way.angle_rad) * ORBIT_REFINE_RAD
+    dist, _ = distance_to_path_m(np.array([[x, 0.0, 1.0]]), np.zeros(3), orbit_end_m(TARGET, 1.0, less))
+    assert dist[0] < 0.6  # turned a little less, it would not be clear
     step = sidestep(TARGET, [[x, 0.0, 1.0]], 1.0, 0.6, 0.3)
     assert step.clear and np.sign(step.sway_m_s) == -np.sign(x) and abs(step.sway_m_s) <= 0.3
     assert step.way.standoff_m == 1.0  # round it to the stand-off asked, not held short
+
+
+def test_the_turn_and_its_sway_shrink_as_the_direct_way_comes_clear():
+    """An object ever less inside the direct way's clearance: the least clear turn is narrowed below the 5 deg step,
+    so the way, and the sway toward it, shrink with what the direct way falls short by (a whole step swayed the
+    vehicle at one speed until the direct way was clear, then it coasted past: issue 11 session 56)."""
+    steps = [sidestep(TARGET, [[x, 0.0, 0.5]], 1.0, 0.6, 0.3) for x in (0.45, 0.5, 0.55, 0.58)]
+    turns = [abs(s.way.angle_rad) for s in steps]
+    sways = [abs(s.sway_m_s) for s in steps]
+    assert all(s.clear and s.way.margin_m >= 0 for s in steps)
+    assert turns == sorted(turns, reverse=True) and sways == sorted(sways, reverse=True)
+    assert turns[-1] < ORBIT_STEP_RAD - 1e-9 and sways[-1] < sways[0] / 2  # less than one whole step
+    assert all(s.way.margin_m < 0.02 for s in steps)  # no more turned than the clearance needs
 
 
 def test_the_way_weighs_every_object_at_once():
