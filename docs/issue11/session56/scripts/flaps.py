@@ -6,13 +6,22 @@ import glob
 import json
 import sys
 
+
+def _rows(path: str):
+    """Yield the run rows of a campaign file (a line may run on into the next row)."""
+    dec = json.JSONDecoder()
+    for line in open(path):
+        at = line.find('{"seed"')
+        while at >= 0:
+            row, end = dec.raw_decode(line, at)
+            yield row
+            at = line.find('{"seed"', end)
+
+
 for top in sys.argv[1:]:
     runs = times = arrived = 0
     for path in sorted(glob.glob(f"{top}/**/*.txt", recursive=True)):
-        for line in open(path):
-            if not line.startswith('{"seed"'):
-                continue
-            row = json.loads(line)
+        for row in _rows(path):
             if not row.get("arrived"):
                 continue
             arrived += 1
