@@ -11,8 +11,8 @@ target, turned by the commanded yaw), so they are remembered after they leave th
 in the rectified left camera frame (x right, y down, z forward, metres), as ``close_in.py``.
 
 The way: the stand-off point may be turned about the target (about the camera's vertical axis, tried in
-``ORBIT_STEP_RAD`` steps and the least clear one then narrowed to within ``ORBIT_REFINE_RAD`` of the least clear turn,
-the vehicle kept within ``MAX_ORBIT_RAD`` of the line it decided from), so
+``ORBIT_STEP_RAD`` steps, the least clear step then narrowed to within ``ORBIT_REFINE_RAD`` of where its way stops
+being clear, the vehicle kept within ``MAX_ORBIT_RAD`` of the line it decided from), so
 the vehicle ends at the stand-off but looking at the target from the side. A way is the straight
 segment from the hull's rear (``behind_m`` behind the camera: an object the camera has passed still
 lies beside the hull) to its stand-off point; its clearance is the least distance of any object from
@@ -37,9 +37,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["DIRECT_BAND_M", "HULL_HALF_LENGTH_M", "MAX_ORBIT_RAD", "ORBIT_REFINE_RAD", "ORBIT_STEP_RAD", "STANDOFF_STEP_M",
-           "Sidestep",
-           "Way", "approach_end_m", "distance_to_path_m", "orbit_end_m", "orbit_ends_m", "plan_way", "sidestep"]
+__all__ = ["DIRECT_BAND_M", "HULL_HALF_LENGTH_M", "MAX_ORBIT_RAD", "ORBIT_REFINE_RAD", "ORBIT_STEP_RAD",
+           "STANDOFF_STEP_M", "Sidestep", "Way", "approach_end_m", "distance_to_path_m", "orbit_end_m", "orbit_ends_m",
+           "plan_way", "sidestep"]
 
 GAIN_PER_S = 1.0
 """Sway speed per metre of lateral offset from the way's stand-off point, 1/s (capped by the servo's sway limit)."""
@@ -196,8 +196,10 @@ def _standoffs(standoff_m: float, depth_m: float) -> list[float]:
 def _narrowed(target: np.ndarray, objects: np.ndarray, start: np.ndarray, way: Way, needed: np.ndarray) -> Way:
     """Return ``way`` turned less, to within ``ORBIT_REFINE_RAD`` of where it stops being clear (bisected between it
     and the turn one ``ORBIT_STEP_RAD`` nearer the direct way, which is not clear), at its stand-off."""
+    if not way.angle_rad:  # the direct way (held short): nothing to narrow
+        return way
     clear, short = way, way.angle_rad - math.copysign(ORBIT_STEP_RAD, way.angle_rad)
-    while way.angle_rad and abs(clear.angle_rad - short) > ORBIT_REFINE_RAD:
+    while abs(clear.angle_rad - short) > ORBIT_REFINE_RAD:
         mid = _way(target, objects, way.standoff_m, start, 0.5 * (clear.angle_rad + short), needed)
         clear, short = (mid, short) if mid.margin_m >= 0 else (clear, mid.angle_rad)
     return clear
