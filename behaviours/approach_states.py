@@ -106,7 +106,7 @@ class _Steering(MissionState):
         step = sidestep(target, target + self.kept_clear_m(bb), bb.standoff_m,
                         bb.config.servo_clearance_m, float(bb.servo.max_speed[1]),
                         bb.servo.mount.forward_m + HULL_HALF_LENGTH_M, self.side, bb.tracker.orbited_rad(target),
-                        direct_band_m=DIRECT_BAND_M if self.direct else 0.0)
+                        direct_band_m=DIRECT_BAND_M if self.direct else 0.0, extra_m=self.extra_m(bb))
         self.direct = step is None
         if step is not None:
             self.tell_way(bb, target, step)
@@ -133,6 +133,13 @@ class _Steering(MissionState):
         """Return what the way keeps clear of, as offsets from the target (camera frame, metres, (K, 3)): the
         decision's other objects, then the diver's body points (``pointing_states.diver_points_m``)."""
         return np.vstack([bb.tracker.neighbours_m, bb.tracker.diver_m])
+
+    @staticmethod
+    def extra_m(bb: Blackboard) -> np.ndarray:
+        """Return how much further than ``behaviour.servo_clearance_m`` each of ``kept_clear_m``'s rows is kept, metres:
+        0 for the objects, ``behaviour.servo_diver_margin_m`` for the diver's points (the body beyond them)."""
+        return np.r_[np.zeros(len(bb.tracker.neighbours_m)),
+                     np.full(len(bb.tracker.diver_m), bb.config.servo_diver_margin_m)]
 
     def tell_way(self, bb: Blackboard, target: np.ndarray, step: Sidestep) -> None:
         """Say the way taken when its side, whether it is clear or the stand-off it holds short at changes."""

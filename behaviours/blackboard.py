@@ -82,6 +82,7 @@ class BehaviourConfig:
     lost_timeout_s: float = 6.0
     servo_timeout_s: float = 90.0
     servo_clearance_m: float = 0.6
+    servo_diver_margin_m: float = 0.3
     arrive_tolerance_px: float = 40.0
     arrive_tolerance_m: float = 0.10
     arrive_hysteresis: float = 1.5

@@ -206,7 +206,8 @@ def _narrowed(target: np.ndarray, objects: np.ndarray, start: np.ndarray, way: W
 
 
 def plan_way(target_xyz, objects_xyz, standoff_m: float, clearance_m: float, behind_m: float = 0.0,
-             side: float = 0.0, orbited_rad: float = 0.0, direct_band_m: float = 0.0) -> Way | None:
+             side: float = 0.0, orbited_rad: float = 0.0, direct_band_m: float = 0.0,
+             extra_m=None) -> Way | None:
     """Return the way to take round the objects, or None when the direct way is clear (or no clearance is asked).
 
     An object already nearer the hull's rear than ``clearance_m`` (beside the hull) can be kept no further than it
@@ -224,6 +225,8 @@ def plan_way(target_xyz, objects_xyz, standoff_m: float, clearance_m: float, beh
             beyond ``MAX_ORBIT_RAD``.
         direct_band_m: the direct way is taken while it falls short of the clearance by no more than this, m
             (``DIRECT_BAND_M`` when it was taken on the last frame: a hysteresis).
+        extra_m: how much further than ``clearance_m`` each object is kept, (K,) metres (None: 0; the diver's points:
+            the body beyond the joints the vehicle knows).
 
     Returns:
         The least turned clear way (narrowed to ``ORBIT_REFINE_RAD``) at the shortest stand-off that has one (from
@@ -236,12 +239,14 @@ def plan_way(target_xyz, objects_xyz, standoff_m: float, clearance_m: float, beh
         (True, True, 1.0)
     """
     objects = np.asarray(objects_xyz, float).reshape(-1, 3)
-    objects = objects[np.all(np.isfinite(objects), axis=1)]
+    extra = np.zeros(len(objects)) if extra_m is None else np.asarray(extra_m, float).reshape(-1)
+    finite = np.all(np.isfinite(objects), axis=1)
+    objects, extra = objects[finite], extra[finite]
     if clearance_m <= 0 or not len(objects):
         return None
     target = np.asarray(target_xyz, float)
     start = np.array([0.0, 0.0, -behind_m])
-    needed = np.minimum(clearance_m, np.linalg.norm(objects - start, axis=1) - 1e-6)
+    needed = np.minimum(clearance_m + extra, np.linalg.norm(objects - start, axis=1) - 1e-6)
     angles = _angles(side, orbited_rad)
     if _way(target, objects, standoff_m, start, 0.0, needed).margin_m >= -direct_band_m:
         return None
@@ -260,14 +265,14 @@ def plan_way(target_xyz, objects_xyz, standoff_m: float, clearance_m: float, beh
 
 def sidestep(target_xyz, objects_xyz, standoff_m: float, clearance_m: float, max_sway_m_s: float,
              behind_m: float = 0.0, side: float = 0.0, orbited_rad: float = 0.0,
-             gain_per_s: float = GAIN_PER_S, direct_band_m: float = 0.0) -> Sidestep | None:
+             gain_per_s: float = GAIN_PER_S, direct_band_m: float = 0.0, extra_m=None) -> Sidestep | None:
     """Return how to follow the way round the objects (``plan_way``), or None when the direct way is clear.
 
     The sway is taken across the line of sight to the target (horizontal), so a target still off-centre does not
     sway the vehicle while the yaw centres it.
 
     Args:
-        target_xyz, objects_xyz, standoff_m, clearance_m, behind_m, side, orbited_rad, direct_band_m: as
+        target_xyz, objects_xyz, standoff_m, clearance_m, behind_m, side, orbited_rad, direct_band_m, extra_m: as
             ``plan_way``.
         max_sway_m_s: the sway limit, m/s.
         gain_per_s: sway speed per metre of offset from the way's stand-off point, 1/s.
@@ -277,7 +282,8 @@ def sidestep(target_xyz, objects_xyz, standoff_m: float, clearance_m: float, max
         >>> s.sway_m_s < 0, s.clear  # sway left, round it
         (True, True)
     """
-    way = plan_way(target_xyz, objects_xyz, standoff_m, clearance_m, behind_m, side, orbited_rad, direct_band_m)
+    way = plan_way(target_xyz, objects_xyz, standoff_m, clearance_m, behind_m, side, orbited_rad, direct_band_m,
+                   extra_m)
     if way is None:
         return None
     lateral, forward = _across_and_along(np.asarray(target_xyz, float), way.end_xyz)

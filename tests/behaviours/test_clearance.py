@@ -182,3 +182,13 @@ def test_a_direct_way_taken_stays_taken_within_the_band_not_beyond():
     assert plan_way(TARGET, [[0.57, 0.0, 0.5]], 1.0, 0.6, direct_band_m=DIRECT_BAND_M) is None
     assert sidestep(TARGET, [[0.57, 0.0, 0.5]], 1.0, 0.6, 0.3, direct_band_m=DIRECT_BAND_M) is None
     assert plan_way(TARGET, [[0.53, 0.0, 0.5]], 1.0, 0.6, direct_band_m=DIRECT_BAND_M).angle_rad < 0
+
+
+def test_an_extra_margin_keeps_its_object_that_much_further():
+    """``extra_m`` per object: a point 0.8 m beside the direct way is clear of 0.6 m, but asked 0.6 + 0.3 m the way
+    turns away from it to pass 0.9 m off; the extra of another object does not move the way."""
+    target, point, far = [0.3, 0.0, 2.0], [-0.65, 0.0, 1.0], [3.0, 0.0, 1.0]
+    assert plan_way(target, [point, far], 1.0, 0.6, 0.4) is None
+    assert plan_way(target, [point, far], 1.0, 0.6, 0.4, extra_m=[0.0, 0.3]) is None
+    way = plan_way(target, [point, far], 1.0, 0.6, 0.4, extra_m=[0.3, 0.0])
+    assert way.angle_rad > 0 and way.index == 0 and way.clearance_m >= 0.9 - 1e-9 and way.margin_m >= 0

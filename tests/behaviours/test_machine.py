@@ -447,13 +447,30 @@ def test_the_servo_goes_round_a_known_object_beside_its_way(rig, clearance_m):
 
 def test_the_servo_keeps_clear_of_the_diver(rig):
     """The diver's hand 0.2 m right of the stand-off point (``tracker.diver_m``) turns the way left, and the pilot is
-    told it is the diver."""
-    m, frame = _servoing(rig, **{"behaviour.servo_clearance_m": 0.6})
+    told it is the diver (kept as far as an object: no body margin)."""
+    m, frame = _servoing(rig, **{"behaviour.servo_clearance_m": 0.6, "behaviour.servo_diver_margin_m": 0.0})
     m.bb.tracker.diver_m = np.array([[0.2, 0.0, -1.0]])  # the target is at (0.3, 0, 2.0)
     for k in range(1, 4):
         _tick_at(m, 0.2 * k, frame)
     assert m.bb.command.sway_m_s < 0
     assert any("the diver at" in s and "going round" in s for s in m.bb.story)
+
+
+@pytest.mark.parametrize("margin_m, turned", [(0.0, False), (0.3, True)])
+def test_the_diver_is_kept_further_than_an_object_by_the_body_margin(rig, margin_m, turned):
+    """A point of the diver 0.8 m left of the direct way: clear of the 0.6 m an object needs, so no sway without the
+    body margin (``behaviour.servo_diver_margin_m``); with 0.3 m it must pass 0.9 m away and the way turns right. The
+    same point as an object (a known neighbour) never turns the way."""
+    for diver in (True, False):
+        m, frame = _servoing(rig, **{"behaviour.servo_clearance_m": 0.6, "behaviour.servo_diver_margin_m": margin_m})
+        point = np.array([[-0.95, 0.0, -1.0]])  # the target is at (0.3, 0, 2.0): the point at (-0.65, 0, 1.0)
+        if diver:
+            m.bb.tracker.diver_m = point
+        else:
+            m.bb.tracker.neighbours_m = point
+        for k in range(1, 4):
+            _tick_at(m, 0.2 * k, frame)
+        assert (m.bb.command.sway_m_s > 0) == (turned and diver), (diver, m.bb.command)
 
 
 def test_the_servo_holds_short_when_no_way_keeps_clear(rig):
