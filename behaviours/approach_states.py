@@ -154,16 +154,17 @@ class _Steering(MissionState):
         what = "an object" if step.way.index < len(bb.tracker.neighbours_m) else "the diver"
         turn = f"{abs(np.degrees(step.way.angle_rad)):.0f} deg {'right' if side > 0 else 'left'}"
         way = f"the stand-off turned {turn} about the target" if step.way.angle_rad else "straight"
+        c = bb.config
+        keeps = (f"{c.servo_clearance_m:.2f} m from every object and "
+                 f"{c.servo_clearance_m + c.servo_diver_margin_m:.2f} m from the diver")
         if held <= 0:
             bb.say(f"{what} at ({where}) m is in the way to the target: going round, {way}", pilot=True)
         elif step.clear:
-            bb.say(f"no way to the stand-off keeps {bb.config.servo_clearance_m:.2f} m from every object and the "
-                   f"diver: holding short, {step.way.standoff_m:.1f} m from the target ({way}; nearest {what} at "
-                   f"({where}) m)", "warning", pilot=True)
+            bb.say(f"no way to the stand-off keeps {keeps}: holding short, {step.way.standoff_m:.1f} m from the "
+                   f"target ({way}; nearest {what} at ({where}) m)", "warning", pilot=True)
         else:
-            bb.say(f"no way keeps {bb.config.servo_clearance_m:.2f} m from every object and the diver: stopping "
-                   f"here, {step.way.standoff_m:.1f} m from the target ({what} at ({where}) m passes "
-                   f"{step.way.clearance_m:.2f} m)", "warning", pilot=True)
+            bb.say(f"no way keeps {keeps}: stopping here, {step.way.standoff_m:.1f} m from the target ({what} at "
+                   f"({where}) m passes {step.way.clearance_m:.2f} m)", "warning", pilot=True)
 
     def tick(self, bb: Blackboard) -> str | None:
         if self.timed_out(bb):

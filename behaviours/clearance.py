@@ -12,17 +12,17 @@ in the rectified left camera frame (x right, y down, z forward, metres), as ``cl
 
 The way: the stand-off point may be turned about the target (about the camera's vertical axis, tried in
 ``ORBIT_STEP_RAD`` steps, the least clear step then narrowed to within ``ORBIT_REFINE_RAD`` of where its way stops
-being clear, the vehicle kept within ``MAX_ORBIT_RAD`` of the line it decided from), so
-the vehicle ends at the stand-off but looking at the target from the side. A way is the straight
-segment from the hull's rear (``behind_m`` behind the camera: an object the camera has passed still
-lies beside the hull) to its stand-off point; its clearance is the least distance of any object from
-it. The direct way is kept when it is clear; otherwise the least turn whose way is clear, weighing
-every object at once (two objects on either side of a gap are one constraint, not two pushes). When
-no turn is clear, the vehicle holds short: the stand-off grows in ``STANDOFF_STEP_M`` steps until
-some way is clear, up to where the camera is now (it stops). It never chooses which object to pass
-near. The plan is made again on every frame from where the vehicle is (a receding horizon), keeps
-to the side it chose unless only the other side is clear, and the caller keeps the stand-off it
-held short at (it only grows while the target is the same).
+being clear, the vehicle kept within ``MAX_ORBIT_RAD`` of the line it decided from), so the vehicle ends at the
+stand-off but looking at the target from the side. A way is the straight segment from the hull's rear (``behind_m``
+behind the camera: an object the camera has passed still lies beside the hull) to its stand-off point; its clearance
+is the least distance of any object from it, and an object may be asked for more than the others (``extra_m``: the
+servo's diver, whose body reaches beyond the points of it the vehicle knows). The direct way is kept when it is
+clear; otherwise the least turn whose way is clear, weighing every object at once (two objects on either side of a
+gap are one constraint, not two pushes). When no turn is clear, the vehicle holds short: the stand-off grows in
+``STANDOFF_STEP_M`` steps until some way is clear, up to where the camera is now (it stops). It never chooses which
+object to pass near. The plan is made again on every frame from where the vehicle is (a receding horizon), keeps to
+the side it chose unless only the other side is clear, and the caller keeps the stand-off it held short at (it only
+grows while the target is the same).
 
 Following the way: the vehicle sways toward the way's stand-off point at ``gain_per_s`` times its
 offset across the line of sight to the target (capped by the servo's sway limit; the yaw keeps the

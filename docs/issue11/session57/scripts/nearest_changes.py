@@ -13,7 +13,8 @@ from compare_missions import run_lines  # noqa: E402
 def fmt(r: dict) -> str:
     """Return one run's outcome, arrival time, least other placard / diver distance and held short, as text."""
     t = r.get("time_to_arrive_s")
-    return (f"{r['outcome']:9s} {'' if t is None else f'{t:5.1f} s'} other {r.get('closest_other_m') or float('nan'):.2f} "
+    other = r.get("closest_other_m") or float("nan")
+    return (f"{r['outcome']:9s} {'' if t is None else f'{t:5.1f} s'} other {other:.2f} "
             f"diver {r.get('closest_diver_m') or float('nan'):.2f} held {r.get('held_short_m') or 0:.1f}")
 
 
