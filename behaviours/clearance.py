@@ -207,7 +207,7 @@ def _narrowed(target: np.ndarray, objects: np.ndarray, start: np.ndarray, way: W
 
 def plan_way(target_xyz, objects_xyz, standoff_m: float, clearance_m: float, behind_m: float = 0.0,
              side: float = 0.0, orbited_rad: float = 0.0, direct_band_m: float = 0.0,
-             extra_m=None) -> Way | None:
+             extra_m: np.ndarray | None = None) -> Way | None:
     """Return the way to take round the objects, or None when the direct way is clear (or no clearance is asked).
 
     An object already nearer the hull's rear than ``clearance_m`` (beside the hull) can be kept no further than it
@@ -265,7 +265,8 @@ def plan_way(target_xyz, objects_xyz, standoff_m: float, clearance_m: float, beh
 
 def sidestep(target_xyz, objects_xyz, standoff_m: float, clearance_m: float, max_sway_m_s: float,
              behind_m: float = 0.0, side: float = 0.0, orbited_rad: float = 0.0,
-             gain_per_s: float = GAIN_PER_S, direct_band_m: float = 0.0, extra_m=None) -> Sidestep | None:
+             gain_per_s: float = GAIN_PER_S, direct_band_m: float = 0.0,
+             extra_m: np.ndarray | None = None) -> Sidestep | None:
     """Return how to follow the way round the objects (``plan_way``), or None when the direct way is clear.
 
     The sway is taken across the line of sight to the target (horizontal), so a target still off-centre does not
