@@ -22,8 +22,14 @@ Exit code 2 stays "bad input" (every command), 1 an unexpected crash.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any, Mapping
 
-__all__ = ["OUTCOME_EXIT_CODES", "Outcome", "mission_outcome"]
+import numpy as np
+
+__all__ = ["OUTCOME_EXIT_CODES", "CHOSEN_WITHIN_M", "Outcome", "Sightings", "mission_outcome", "nearest_placard"]
+
+CHOSEN_WITHIN_M = 0.5
+"""A tracked target names the placard whose true centre is nearest it within this, metres (else none)."""
 
 OUTCOME_EXIT_CODES: dict[str, int] = {
     "reached": 0, "wrong_object": 3, "outside_tolerance": 4, "not_arrived": 5, "no_decision": 6,
@@ -51,7 +57,7 @@ def mission_outcome(*, arrived: bool, chosen_id: int | None, target_id: int, ran
 
     Args:
         arrived: the mission reached its ``done`` state (at whatever object it chose).
-        chosen_id: the placard nearest the tracked target at the end (true positions), or None.
+        chosen_id: the placard the tracker last saw as its target (``Sightings``), or None.
         target_id: the placard the diver pointed at.
         range_error_at_arrival_m: true range minus stand-off when the mission arrived, or None.
         tolerance_m: ``behaviour.arrive_tolerance_m``.
@@ -87,3 +93,54 @@ def mission_outcome(*, arrived: bool, chosen_id: int | None, target_id: int, ran
                                       f" but had not arrived when the run ended after {sim_time_s:.1f} s "
                                       f"(state {last})")
     return Outcome("no_decision", f"no object chosen in {sim_time_s:.1f} s (state {last})")
+
+
+def nearest_placard(xyz_rect_m: Any, placards: Mapping[Any, Mapping], r1: np.ndarray) -> Any | None:
+    """Return the id of the placard whose true centre is nearest ``xyz_rect_m`` (rectified left camera, metres)
+    within ``CHOSEN_WITHIN_M``, or None; ``placards`` is a frame meta's ``"placards"`` (``xyz_cam_m``, camera)."""
+    best, best_d = None, CHOSEN_WITHIN_M
+    for pid, info in placards.items():
+        d = float(np.linalg.norm(r1 @ np.asarray(info["xyz_cam_m"], float) - np.asarray(xyz_rect_m, float)))
+        if d < best_d:
+            best, best_d = pid, d
+    return best
+
+
+class Sightings:
+    """Which placard the vehicle's tracker last saw as its target, from the true positions of that very frame.
+
+    A run's choice is this, not where the tracker's dead-reckoned position stands at the end: after a loss the
+    tracker keeps its last position while the vehicle drifts, so an aborted run's stale position can end within
+    ``CHOSEN_WITHIN_M`` of a placard the vehicle never tracked (issue 11 session 57, ``variant_10_01`` seed 1).
+    """
+
+    KEEP_FRAMES = 64
+    """How many recent frames' metas are kept to find a sighting's own frame."""
+
+    def __init__(self, r1: np.ndarray) -> None:
+        self.r1 = np.asarray(r1, float)
+        self._metas: dict[float, Mapping] = {}
+        self._last: Any = None
+        self.placard: Any | None = None
+        """the placard the newest sighting lay on, or None (none within ``CHOSEN_WITHIN_M``, or no sighting)"""
+
+    @property
+    def seen(self) -> bool:
+        """Whether the tracker has seen a target yet."""
+        return self._last is not None
+
+    def frame(self, stamp_s: float, meta: Mapping | None) -> None:
+        """Keep the meta (true positions) of the frame captured at ``stamp_s``, seconds."""
+        if meta:
+            self._metas[stamp_s] = meta
+            while len(self._metas) > self.KEEP_FRAMES:
+                del self._metas[next(iter(self._metas))]
+
+    def note(self, last: Any, fallback_meta: Mapping | None) -> None:
+        """Take the tracker's newest sighting ``last`` (a ``TrackedTarget`` or None): a new one names its placard
+        from its own frame's meta (``fallback_meta`` when that frame is no longer kept)."""
+        if last is None or last is self._last:
+            return
+        self._last = last
+        meta = self._metas.get(last.stamp_s) or fallback_meta or {}
+        self.placard = nearest_placard(last.xyz_m, meta.get("placards", {}), self.r1) if meta else None

@@ -44,7 +44,7 @@ from .render import StereoRenderer
 from .router import Router
 from .scenario import Scenario, load_scenario
 from .sim_pilot import SimPilot
-from .outcome import mission_outcome
+from .outcome import Sightings, mission_outcome, nearest_placard
 
 __all__ = ["Router", "SimPilot", "Fault", "Received", "SimResult", "Simulation", "sim_params", "run_mission"]
 
@@ -197,6 +197,7 @@ class Simulation:
         self.held_short_m: float | None = None  # how much longer than the stand-off the arrival held off, m
         self.last_frame = None
         self.last_meta: dict = {}
+        self.sightings = Sightings(self.rig.R1)
         self.fault_at_s: float | None = None
         self.ticks: list[tuple[float, str, bool, bool]] = []
         self.on_step: Any = None  # called with the sim time after every step (the live story printer)
@@ -244,7 +245,10 @@ class Simulation:
                     if obs is not None:
                         pending.append((now + latency, obs, self.last_frame.meta))
                 observation, obs_meta = self._deliver(now, pending)
+                if observation is not None:
+                    self.sightings.frame(observation.stamp_s, obs_meta)
                 rec = self.controller.tick(observation)
+                self.sightings.note(self.mission.bb.tracker.last, self.last_meta)
                 self.router.step()
                 self.ticks.append((now, rec.state, rec.engaged, rec.command is not None and not rec.command.is_neutral()))
                 self._record(now, rec, observation, obs_meta)
@@ -350,17 +354,17 @@ class Simulation:
 
     # -- outcome ----------------------------------------------------------------------------
     def chosen_placard(self) -> int | None:
-        """Return the id of the placard nearest the tracked target (true positions), or None."""
+        """Return the id of the placard the tracker last saw as the target (``Sightings``; true positions), or None.
+
+        Before any sighting, the placard nearest the tracker's position now."""
         bb = self.mission.bb
         if bb.target is None or not self.last_meta:
             return None
-        best, best_d = None, 0.5
-        for pid, info in self.last_meta["placards"].items():
-            xyz = self.rig.R1 @ np.asarray(info["xyz_cam_m"])
-            d = float(np.linalg.norm(xyz - bb.tracker.xyz_m)) if bb.tracker.xyz_m is not None else math.inf
-            if d < best_d:
-                best, best_d = pid, d
-        return best
+        if self.sightings.seen:
+            return self.sightings.placard
+        if bb.tracker.xyz_m is None:
+            return None
+        return nearest_placard(bb.tracker.xyz_m, self.last_meta["placards"], self.rig.R1)
 
     def _true_range(self) -> float | None:
         """Return the true range (left camera to placard centre) of the tracked placard now."""
