@@ -28,7 +28,6 @@ import time
 from dataclasses import dataclass, field
 from typing import Any, Mapping
 
-import numpy as np
 from behaviours.loop import Controller, FrameProcessor, build_mission, observation_summary
 from dip3d_vehicle.clock import SimClock
 from dip3d_vehicle.config import Params, load_params
