@@ -4,6 +4,7 @@ and settle at the stand-off (arrive). All of them run on tracking frames (``need
 
 from __future__ import annotations
 
+import math
 from dataclasses import replace
 
 import numpy as np
@@ -12,6 +13,7 @@ from dip3d_vehicle.servo import VelocityCommand
 from .acknowledge import Acknowledgement
 from .blackboard import Blackboard
 from .clearance import DIRECT_BAND_M, HULL_HALF_LENGTH_M, Sidestep, sidestep
+from .look_round import look_round_m
 from .mission_state import MissionState, track_target
 from .tracker import TrackedTarget
 
@@ -211,7 +213,8 @@ class Servo(_Steering):
 
 
 class LostTarget(MissionState):
-    """Target not seen for a while: hold still and look for it; give up after a timeout."""
+    """Target not seen for a while: look for it, first from beside an object that hides it (``look_round``), else
+    holding still; give up ``behaviour.lost_timeout_s`` after the step (none: after the loss)."""
 
     name = "lost_target"
     triggers = ("reacquired", "give_up")
@@ -220,16 +223,48 @@ class LostTarget(MissionState):
     def enter(self, bb: Blackboard) -> None:
         super().enter(bb)
         bb.stop()
-        bb.say("target lost: holding and looking for it", "warning", pilot=True)
+        self.step_m, self.moved_m, self.last_s = self.plan_step(bb), 0.0, None
+        if self.step_m:
+            bb.say(f"target lost behind an object: stepping {abs(self.step_m):.2f} m "
+                   f"{'right' if self.step_m > 0 else 'left'} to look round it", "warning", pilot=True)
+        else:
+            bb.say("target lost: holding and looking for it", "warning", pilot=True)
+
+    @staticmethod
+    def plan_step(bb: Blackboard) -> float:
+        """Return the sideways step that shows the target round what hides it (metres, right +; 0: none)."""
+        target = bb.tracker.xyz_m
+        if target is None:
+            return 0.0
+        kept = target + _Steering.kept_clear_m(bb)
+        needed = bb.config.servo_clearance_m + _Steering.extra_m(bb)
+        return look_round_m(target, kept, kept, needed, bb.servo.mount.forward_m + HULL_HALF_LENGTH_M,
+                            bb.config.look_round_max_m)
 
     def tick(self, bb: Blackboard) -> str | None:
-        if self.elapsed(bb) > bb.config.lost_timeout_s:
+        step_s = abs(self.step_m) / bb.config.look_round_speed_m_s
+        if self.elapsed(bb) > bb.config.lost_timeout_s + step_s:
             return "give_up"
         _, found = track_target(bb)
         if found is not None:
             bb.say(f"target re-acquired ({found.matches} matches)")
             return "reacquired"
+        self.sway(bb)
         return None
+
+    def sway(self, bb: Blackboard) -> None:
+        """Command the step's sway until the commanded distance covers it, then nothing."""
+        now, command = bb.now_s, bb.command
+        if self.last_s is not None and command is not None:
+            self.moved_m += abs(command.sway_m_s) * max(now - self.last_s, 0.0)
+        self.last_s = now
+        if abs(self.step_m) - self.moved_m > 1e-6:
+            bb.set_command(VelocityCommand(sway_m_s=math.copysign(bb.config.look_round_speed_m_s, self.step_m)))
+        elif command is not None:
+            bb.stop()
+
+    def exit(self, bb: Blackboard) -> None:
+        bb.set_command(None)
 
 
 class Arrive(_Steering):

@@ -80,6 +80,8 @@ class BehaviourConfig:
     track_surface_slope: float = 2.0
     lost_grace_s: float = 1.0
     lost_timeout_s: float = 6.0
+    look_round_max_m: float = 0.8
+    look_round_speed_m_s: float = 0.15
     servo_timeout_s: float = 90.0
     servo_clearance_m: float = 0.6
     servo_diver_margin_m: float = 0.3

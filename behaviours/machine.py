@@ -125,7 +125,8 @@ class Mission:
     def track_roi(self, rig, image_size: tuple[int, int]) -> TrackRegion | None:
         """Return where to look for the target in the next frame (rectified px), or None = everywhere.
 
-        Only in tracking states with a target (not in lost_target, which searches the whole frame): a
+        Only in tracking states with a target (lost_target: every other frame, the whole frame the others, as the
+        prediction may have drifted; the box alone finds a faint far target, issue 11 session 58): a
         box around the predicted centre, ``behaviour.track_roi_margin_px`` plus the projected size of
         ``behaviour.track_roi_object_m`` on each side (the margin doubled after a miss, so the
         corridor's features, which only a box gets, still cover a drifting prediction); its left edge
@@ -133,7 +134,7 @@ class Mission:
         predicted at least ``ZOOM_MIN_DEPTH_M`` away also gets a zoom box (``zoom_box``).
         """
         bb, tracker = self.bb, self.bb.tracker
-        if self.needs != "track" or self.state == "lost_target" or not tracker.active:
+        if self.needs != "track" or not tracker.active or (self.state == "lost_target" and tracker.misses % 2):
             return None
         xyz = tracker.predicted_xyz(bb.now_s, bb.command)
         if xyz is None or xyz[2] < 0.2:

@@ -562,3 +562,68 @@ def test_the_servo_keeps_the_direct_way_while_it_falls_short_by_less_than_the_ba
     m.bb.tracker.neighbours_m = _beside_the_way(m, 0.03)
     _tick_at(m, 0.8, frame)
     assert m.bb.command.sway_m_s != 0.0
+
+
+def _hidden_and_lost(rig, beside=(), **over):
+    """A servoing mission whose target (0.3, 0, 2.0) a known object on its line of sight, halfway, now hides (and
+    objects at ``beside``, camera frame): empty tracking frames until lost_target; return the mission, the time
+    reached (s), the target's frame and an empty frame."""
+    m, frame = _servoing(rig, **{"behaviour.lost_grace_s": 0.5, "behaviour.lost_timeout_s": 2.0, **over})
+    # the hider at (0.17, 0, 1.0): 2 cm right of the line of sight
+    m.bb.tracker.neighbours_m = np.array([[0.17, 0.0, 1.0], *beside]) - [0.3, 0.0, 2.0]
+    empty = TrackFrame(Candidates.empty(), np.zeros((0, 3)))
+    t = 0.0
+    while m.state != "lost_target":
+        t += 0.2
+        _tick_at(m, t, empty)
+        assert t < 3.0
+    return m, t, frame, empty
+
+
+def test_a_target_lost_behind_a_known_object_is_looked_for_from_a_step_to_the_side(rig):
+    """The known object leans right of the line of sight: the vehicle sways left (away) at
+    ``behaviour.look_round_speed_m_s`` until the commanded distance clears the line by 0.3 m, then stops; it gives
+    up ``behaviour.lost_timeout_s`` after the step, not before."""
+    m, t0, _, empty = _hidden_and_lost(rig)
+    assert any("stepping" in s and "left to look round it" in s for s in m.bb.story)
+    step_m = float(next(s for s in m.bb.story if "stepping" in s).split("stepping ")[1].split(" m")[0])
+    assert 0.2 < step_m < 0.8
+    sways, t = [], t0
+    while m.state == "lost_target":
+        t += 0.1
+        _tick_at(m, t, empty if round(t * 10) % 2 else None)
+        sways.append((t, 0.0 if m.bb.command is None else m.bb.command.sway_m_s))
+    moving = [s for _, s in sways if s]
+    assert moving and all(s == pytest.approx(-0.15) for s in moving)
+    assert sum(-s * 0.1 for _, s in sways) == pytest.approx(step_m, abs=0.1)
+    assert m.state == "abort" and t - t0 == pytest.approx(2.0 + step_m / 0.15, abs=0.25)
+
+
+def test_with_look_round_off_or_no_safe_step_a_lost_target_is_waited_for_holding_still(rig):
+    """Off (``behaviour.look_round_max_m`` 0), or objects 0.6 m either side of the camera (a step either way would
+    bring the hull nearer one than ``behaviour.servo_clearance_m``): the vehicle holds still as before."""
+    for beside, over in (((), {"behaviour.look_round_max_m": 0.0}), (([-0.6, 0.0, 0.0], [0.6, 0.0, 0.0]), {})):
+        m, t, _, empty = _hidden_and_lost(rig, beside, **over)
+        assert any("holding and looking for it" in s for s in m.bb.story), over
+        while m.state == "lost_target":
+            t += 0.2
+            _tick_at(m, t, empty)
+            assert m.bb.command is None or m.state != "lost_target"
+        assert m.state == "abort"
+
+
+def test_a_target_seen_again_during_the_step_goes_back_to_the_servo(rig):
+    m, t, frame, empty = _hidden_and_lost(rig)
+    _tick_at(m, t + 0.2, empty)
+    assert m.bb.command is not None and m.bb.command.sway_m_s < 0
+    assert _tick_at(m, t + 0.4, frame) == "reacquired" and m.state == "servo"
+
+
+def test_lost_target_searches_round_the_prediction_and_the_whole_frame_in_turn(rig):
+    m, t, _, empty = _hidden_and_lost(rig)
+    size = (1600, 1200)
+    boxes = []
+    for k in range(4):
+        _tick_at(m, t + 0.2 * (k + 1), empty)
+        boxes.append(m.track_roi(rig, size))
+    assert sum(b is None for b in boxes) == 2 and sum(b is not None for b in boxes) == 2
