@@ -12,7 +12,6 @@ def traced(self, costs, arm_cost, objects, arm, arm3d, pointing_sigma_rad=None, 
     out = orig(self, costs, arm_cost, objects, arm, arm3d, pointing_sigma_rad, n_objects)
     if T0 <= NOW["t"] <= T1:
         s, e, w = arm3d.xyz_m
-        s, e, w = arm3d.xyz_m
         length = max(float(np.linalg.norm(w - s)), 0.1)
         tilt = min(float(np.hypot(arm3d.depth_sigma_m[0], arm3d.depth_sigma_m[2])) / length, sel.MAX_TILT_SIGMA_RAD)
         u = (w - s) / np.linalg.norm(w - s)
