@@ -224,6 +224,7 @@ class LostTarget(MissionState):
         super().enter(bb)
         bb.stop()
         self.step_m, self.moved_m, self.last_s = self.plan_step(bb), 0.0, None
+        self.give_up_s = bb.config.lost_timeout_s + abs(self.step_m) / bb.config.look_round_speed_m_s
         if self.step_m:
             bb.say(f"target lost behind an object: stepping {abs(self.step_m):.2f} m "
                    f"{'right' if self.step_m > 0 else 'left'} to look round it", "warning", pilot=True)
@@ -238,12 +239,11 @@ class LostTarget(MissionState):
             return 0.0
         kept = target + _Steering.kept_clear_m(bb)
         needed = bb.config.servo_clearance_m + _Steering.extra_m(bb)
-        return look_round_m(target, kept, kept, needed, bb.servo.mount.forward_m + HULL_HALF_LENGTH_M,
+        return look_round_m(target, kept, needed, bb.servo.mount.forward_m + HULL_HALF_LENGTH_M,
                             bb.config.look_round_max_m)
 
     def tick(self, bb: Blackboard) -> str | None:
-        step_s = abs(self.step_m) / bb.config.look_round_speed_m_s
-        if self.elapsed(bb) > bb.config.lost_timeout_s + step_s:
+        if self.elapsed(bb) > self.give_up_s:
             return "give_up"
         _, found = track_target(bb)
         if found is not None:

@@ -38,7 +38,7 @@ from dataclasses import dataclass
 import numpy as np
 
 __all__ = ["DIRECT_BAND_M", "HULL_HALF_LENGTH_M", "MAX_ORBIT_RAD", "ORBIT_REFINE_RAD", "ORBIT_STEP_RAD",
-           "STANDOFF_STEP_M", "Sidestep", "Way", "approach_end_m", "distance_to_path_m", "orbit_end_m", "orbit_ends_m",
+           "STANDOFF_STEP_M", "Sidestep", "Way", "across_and_along", "approach_end_m", "distance_to_path_m", "orbit_end_m", "orbit_ends_m",
            "plan_way", "sidestep"]
 
 GAIN_PER_S = 1.0
@@ -287,13 +287,13 @@ def sidestep(target_xyz, objects_xyz, standoff_m: float, clearance_m: float, max
                    extra_m)
     if way is None:
         return None
-    lateral, forward = _across_and_along(np.asarray(target_xyz, float), way.end_xyz)
+    lateral, forward = across_and_along(np.asarray(target_xyz, float), way.end_xyz)
     sway = float(np.clip(gain_per_s * lateral, -max_sway_m_s, max_sway_m_s))
     max_surge = math.inf if abs(lateral) < 0.02 else abs(sway) * max(forward, 0.0) / abs(lateral)
     return Sidestep(sway, max_surge, lateral, way, way.margin_m >= 0)
 
 
-def _across_and_along(target: np.ndarray, point: np.ndarray) -> tuple[float, float]:
+def across_and_along(target: np.ndarray, point: np.ndarray) -> tuple[float, float]:
     """Return ``point``'s offset across the horizontal line of sight to ``target`` (positive: right) and along it,
     metres."""
     h = math.hypot(float(target[0]), float(target[2]))

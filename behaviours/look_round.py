@@ -21,7 +21,7 @@ import math
 
 import numpy as np
 
-from .clearance import distance_to_path_m
+from .clearance import across_and_along, distance_to_path_m
 
 __all__ = ["HIDE_RADIUS_M", "CLEAR_OF_HIDER_M", "hider", "step_clear_m", "safe_step_m", "look_round_m"]
 
@@ -54,9 +54,8 @@ def hider(target_xyz, objects_xyz, radius_m: float = HIDE_RADIUS_M) -> int | Non
 def _offset_m(camera_x_m: float, target: np.ndarray, obj: np.ndarray) -> float:
     """Return ``obj``'s horizontal offset from the line of sight to ``target`` of a camera moved ``camera_x_m`` along
     x, metres (positive: right of the line)."""
-    tx, tz = float(target[0]) - camera_x_m, float(target[2])
-    ox, oz = float(obj[0]) - camera_x_m, float(obj[2])
-    return (ox * tz - oz * tx) / max(math.hypot(tx, tz), 1e-9)
+    moved = np.array([camera_x_m, 0.0, 0.0])
+    return across_and_along(target - moved, obj - moved)[0]
 
 
 def step_clear_m(target_xyz, hider_xyz, clear_m: float, direction: float = 0.0) -> float:
@@ -102,16 +101,16 @@ def safe_step_m(step_m: float, objects_xyz, needed_m: np.ndarray, behind_m: floa
     return True
 
 
-def look_round_m(target_xyz, hiders_xyz, kept_xyz, needed_m: np.ndarray, behind_m: float, max_m: float) -> float:
+def look_round_m(target_xyz, objects_xyz, needed_m: np.ndarray, behind_m: float, max_m: float) -> float:
     """Return the sideways step (x, metres, positive: right; 0: none) that shows a target hidden by one of
-    ``hiders_xyz``: the shorter side first, the other when the shorter's path is not safe (``safe_step_m`` over
-    ``kept_xyz`` and ``needed_m``), none longer than ``max_m``."""
-    k = hider(target_xyz, hiders_xyz)
+    ``objects_xyz``: the shorter side first, the other when the shorter's path is not safe (``safe_step_m``, each
+    object kept ``needed_m`` away), none longer than ``max_m``."""
+    k = hider(target_xyz, objects_xyz)
     if k is None or max_m <= 0:
         return 0.0
-    h = np.asarray(hiders_xyz, float).reshape(-1, 3)[k]
+    h = np.asarray(objects_xyz, float).reshape(-1, 3)[k]
     first = step_clear_m(target_xyz, h, CLEAR_OF_HIDER_M)
     for step in (first, step_clear_m(target_xyz, h, CLEAR_OF_HIDER_M, -first if first else -1.0)):
-        if 0 < abs(step) <= max_m and safe_step_m(step, kept_xyz, needed_m, behind_m):
+        if 0 < abs(step) <= max_m and safe_step_m(step, objects_xyz, needed_m, behind_m):
             return step
     return 0.0

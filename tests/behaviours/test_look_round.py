@@ -59,14 +59,14 @@ def test_look_round_takes_the_other_side_when_the_shorter_is_not_safe_and_none_l
     target, obj = [0.0, 0.0, 3.0], [0.05, 0.0, 1.5]
     kept = np.array([obj])
     needed = np.array([0.6])
-    assert look_round_m(target, kept, kept, needed, 0.45, 2.0) == pytest.approx(-0.5, abs=0.02)
+    assert look_round_m(target, kept, needed, 0.45, 2.0) == pytest.approx(-0.5, abs=0.02)
     blocked = np.array([obj, [-0.9, 0.0, 0.2]])  # something close on the left
-    step = look_round_m(target, blocked, blocked, np.array([0.6, 0.6]), 0.45, 2.0)
+    step = look_round_m(target, blocked, np.array([0.6, 0.6]), 0.45, 2.0)
     assert step > 0 and step == pytest.approx(step_clear_m(target, obj, CLEAR_OF_HIDER_M, 1.0))
-    assert look_round_m(target, blocked, blocked, np.array([0.6, 0.6]), 0.45, 0.5) == 0.0  # the right side: 0.7 m
-    assert look_round_m(target, kept, kept, needed, 0.45, 0.0) == 0.0  # off
-    assert look_round_m(target, np.array([[0.8, 0.0, 1.5]]), kept, needed, 0.45, 2.0) == 0.0  # nothing hides it
-    assert not math.isnan(look_round_m([0.0, 0.0, 0.0], kept, kept, needed, 0.45, 2.0))
+    assert look_round_m(target, blocked, np.array([0.6, 0.6]), 0.45, 0.5) == 0.0  # the right side: 0.7 m
+    assert look_round_m(target, kept, needed, 0.45, 0.0) == 0.0  # off
+    assert look_round_m(target, np.array([[0.8, 0.0, 1.5]]), needed, 0.45, 2.0) == 0.0  # nothing hides it
+    assert not math.isnan(look_round_m([0.0, 0.0, 0.0], kept, needed, 0.45, 2.0))
 
 
 def test_the_modules_examples_hold():
