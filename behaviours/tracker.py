@@ -6,8 +6,8 @@ are grouped into objects (``group_objects``, as the selector does); the target i
 the most descriptor matches to the model (Lowe's ratio test; each model descriptor counts once) whose
 centre lies inside a gate around the predicted centre; of an object wider than one target (two placards joined by a
 line on the floor), only the part around the features that match. The prediction moves the last centre by the
-commanded vehicle motion since then (yaw turns the scene about the camera's vertical axis,
-surge/heave translate it); the gate
+vehicle's motion under the commands since then (``coast.py``: in ALT_HOLD it coasts on after a neutral command;
+yaw turns the scene about the camera's vertical axis, surge/sway/heave translate it); the gate
 grows with the time since the last sighting. The model keeps the first sighting's descriptors (the
 identity) plus the latest sighting's (the appearance up close). A target whose decision sighting holds
 few descriptors starts with those of all its sightings over the decision's frames (``pooled_model``).
@@ -33,7 +33,9 @@ from dip3d_vehicle.perception.calibration import StereoRig
 from dip3d_vehicle.perception.corridor import ZOOM_MIN_DEPTH_M
 from dip3d_vehicle.perception.grouping import extent_m, group_objects, objects_of
 from dip3d_vehicle.perception.values import Candidates, ObjectCandidate
-from dip3d_vehicle.servo.command import VelocityCommand
+from dip3d_vehicle.servo.command import NEUTRAL, VelocityCommand
+
+from .coast import MotionModel
 
 __all__ = ["TrackerConfig", "TrackedTarget", "TargetTracker", "TrackRegion", "predict_xyz", "pooled_model",
            "project_px", "turn_xyz", "zoom_box"]
@@ -75,6 +77,7 @@ class TrackerConfig:
     max_extent_m: float = 0.6
     refuse_neighbours: bool = True
     surface_slope: float = 2.0
+    motion: MotionModel = MotionModel(0.23, 0.56, 0.35, 0.6)
 
     @classmethod
     def from_params(cls, params: Mapping) -> "TrackerConfig":
@@ -88,7 +91,7 @@ class TrackerConfig:
                    object_radius_m=params["selection.object_radius_m"],
                    max_extent_m=params["selection.target_max_extent_m"],
                    refuse_neighbours=params["behaviour.track_neighbours"],
-                   surface_slope=params["behaviour.track_surface_slope"])
+                   surface_slope=params["behaviour.track_surface_slope"], motion=MotionModel.from_params(params))
 
 
 @dataclass(frozen=True)
@@ -239,6 +242,7 @@ class TargetTracker:
         self.start_bearing_rad = 0.0  # the target's bearing in the camera at start, rad (right +)
         self.fix_xyz_m: np.ndarray | None = None  # where the target was last seen (or started, or rewound)
         self.refused = 0  # objects inside the gate refused as a known neighbour, over the track
+        self.velocity = NEUTRAL  # the vehicle's modelled velocity at the last frame (``MotionModel``)
 
     @property
     def active(self) -> bool:
@@ -279,6 +283,7 @@ class TargetTracker:
         self.neighbours_m = np.zeros((0, 3)) if neighbours_m is None else np.asarray(neighbours_m, float).reshape(-1, 3)
         self.diver_m = np.zeros((0, 3)) if diver_m is None else np.asarray(diver_m, float).reshape(-1, 3)
         self.yawed_rad, self.start_bearing_rad = 0.0, bearing_rad(self.xyz_m)
+        self.velocity = NEUTRAL  # the decision is taken holding still
 
     def orbited_rad(self, xyz_m) -> float:
         """Return how far the vehicle has gone round the target since start, seen from the target (the line of
@@ -298,10 +303,11 @@ class TargetTracker:
             self.misses, self.last_seen_s = 0, stamp_s
 
     def predicted_xyz(self, stamp_s: float, command: VelocityCommand | None) -> np.ndarray | None:
-        """Return where the target should be at ``stamp_s`` given the commanded motion."""
+        """Return where the target should be at ``stamp_s`` given the command in force since the last frame."""
         if self.xyz_m is None:
             return None
-        return predict_xyz(self.xyz_m, command, self._since_frame_s(stamp_s))
+        since_s = self._since_frame_s(stamp_s)
+        return predict_xyz(self.xyz_m, self.config.motion.advance(self.velocity, command, since_s)[0], since_s)
 
     def _since_frame_s(self, stamp_s: float) -> float:
         """Return the time from the last frame to ``stamp_s`` (s; 0 before any)."""
@@ -323,12 +329,12 @@ class TargetTracker:
         if self.xyz_m is None:
             return None
         self.frames += 1
-        predicted = self.predicted_xyz(stamp_s, command)
         since_s = self._since_frame_s(stamp_s)
-        self.neighbours_m = turn_xyz(self.neighbours_m, command, since_s)
-        self.diver_m = turn_xyz(self.diver_m, command, since_s)
-        if command is not None:
-            self.yawed_rad += command.yaw_rate_rad_s * max(since_s, 0.0)
+        moved, self.velocity = self.config.motion.advance(self.velocity, command, since_s)
+        predicted = predict_xyz(self.xyz_m, moved, since_s)
+        self.neighbours_m = turn_xyz(self.neighbours_m, moved, since_s)
+        self.diver_m = turn_xyz(self.diver_m, moved, since_s)
+        self.yawed_rad += moved.yaw_rate_rad_s * max(since_s, 0.0)
         self.xyz_m = predicted  # dead reckoning while unseen keeps the gate centred
         self.last_frame_s = stamp_s
         found = self._find(candidates, xyz_m, predicted, stamp_s)

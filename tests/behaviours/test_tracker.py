@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 from behaviours.loop import FrameProcessor
+from behaviours.coast import MotionModel
 from behaviours.tracker import TargetTracker, TrackerConfig, predict_xyz
 from dip3d_vehicle.config import load_params
 from dip3d_vehicle.perception.keypoints_file import GivenKeypoints
@@ -261,7 +262,7 @@ def test_the_decisions_other_objects_are_offsets_from_the_target_turned_with_the
 
     rig = load_scenario("paper_pool", 0).rig()
     cands, xyz = _scene([[0.0, 0.0, 2.0]], 8, rig)
-    tracker = TargetTracker(TrackerConfig(), rig)
+    tracker = TargetTracker(TrackerConfig(motion=MotionModel()), rig)  # the vehicle does as commanded
     tracker.start(ObjectCandidate(cands.left_px.mean(axis=0), xyz.mean(axis=0), 0.02, tuple(range(8))), cands, 0.0,
                   neighbours_m=np.array([[0.0, 0.0, 1.0], [0.5, 0.0, 0.0]]), diver_m=np.array([[0.0, 0.3, 1.0]]))
     turn_and_advance = VelocityCommand(yaw_rate_rad_s=math.pi / 2, surge_m_s=0.3)
