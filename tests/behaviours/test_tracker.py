@@ -8,13 +8,13 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from behaviours.loop import FrameProcessor
 from behaviours.coast import MotionModel
+from behaviours.loop import FrameProcessor
 from behaviours.tracker import TargetTracker, TrackerConfig, predict_xyz
 from dip3d_vehicle.config import load_params
 from dip3d_vehicle.perception.keypoints_file import GivenKeypoints
 from dip3d_vehicle.perception.pipeline import Perception
-from dip3d_vehicle.servo.command import VelocityCommand
+from dip3d_vehicle.servo.command import NEUTRAL, VelocityCommand
 from sitl.render import StereoRenderer
 from sitl.scenario import load_scenario
 from sitl.simulation import sim_params
@@ -83,6 +83,31 @@ def test_rewind_after_the_nod_predicts_from_where_the_target_was_and_forgives_it
     tracker.rewind(before, 1.0)
     assert not tracker.lost and tracker.misses == 0
     np.testing.assert_allclose(tracker.predicted_xyz(1.0, None), before)
+
+
+def test_an_unseen_target_is_predicted_where_the_coasting_vehicle_carries_it():
+    """After the servo's neutral the vehicle coasts on in ALT_HOLD: the prediction keeps moving (the modelled
+    velocity), where moving as commanded would have stopped it; a new start forgets the old speed."""
+    from dip3d_vehicle.perception.values import Candidates, ObjectCandidate
+
+    rig = load_scenario("paper_pool", 0).rig()
+    cands = Candidates(np.zeros((4, 2)), np.zeros((4, 2)), np.random.default_rng(1).random((4, 128), np.float32),
+                       np.zeros(4))
+    target = ObjectCandidate(np.array([800.0, 600.0]), np.array([0.0, 0.0, 3.0]), 0.02, (0, 1, 2, 3))
+    ahead = VelocityCommand(surge_m_s=0.3)
+    depths = {}
+    for name, config in (("vehicle", TrackerConfig()), ("commands", TrackerConfig(motion=MotionModel()))):
+        tracker = TargetTracker(config, rig)
+        tracker.start(target, cands, 0.0)
+        for k in range(1, 21):  # 2 s ahead at 0.3 m/s, then 2 s of neutral, the target unseen throughout
+            tracker.update(Candidates.empty(), np.zeros((0, 3)), 0.1 * k, ahead)
+        for k in range(21, 41):
+            tracker.update(Candidates.empty(), np.zeros((0, 3)), 0.1 * k, NEUTRAL)
+        depths[name] = tracker.xyz_m[2]
+        tracker.start(target, cands, 5.0)
+        assert tracker.velocity == NEUTRAL
+    assert depths["commands"] == pytest.approx(3.0 - 0.6)
+    assert 3.0 - 0.6 - 0.35 < depths["vehicle"] < 3.0 - 0.6 - 0.1  # spun up late, then coasted on
 
 
 def _scene(objects_xyz: list, features: int, rig, seed: int = 3):
