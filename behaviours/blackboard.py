@@ -78,7 +78,7 @@ class BehaviourConfig:
     track_pool_below: int = 50
     track_neighbours: bool = True
     track_surface_slope: float = 2.0
-    track_reckoning: str = "vehicle"
+    track_reckoning: str = "commands"
     track_coast_m: float = 0.23
     lost_grace_s: float = 1.0
     lost_timeout_s: float = 6.0

@@ -10,6 +10,10 @@ sway obey ``dv/dt = (c|c| - v|v|) / coast_m`` (``coast_m`` = the vehicle's mass 
 command ``c`` is the speed its thrust holds steady); under the autopilot's own velocity loop (GUIDED) they
 lag first-order; the yaw rate lags first-order on both paths; heave follows the command at once (the depth
 is held).
+
+The tracker uses it with ``behaviour.track_reckoning`` vehicle. Not the default: the servo's way round the diver
+(``behaviour.servo_diver_margin_m``) was calibrated on offsets carried by the commands, and with this model's
+truer offsets the least pass by the diver's body over 333 simulated missions fell from 0.99 to 0.81 m.
 """
 
 from __future__ import annotations

@@ -6,8 +6,9 @@ are grouped into objects (``group_objects``, as the selector does); the target i
 the most descriptor matches to the model (Lowe's ratio test; each model descriptor counts once) whose
 centre lies inside a gate around the predicted centre; of an object wider than one target (two placards joined by a
 line on the floor), only the part around the features that match. The prediction moves the last centre by the
-vehicle's motion under the commands since then (``coast.py``: in ALT_HOLD it coasts on after a neutral command;
-yaw turns the scene about the camera's vertical axis, surge/sway/heave translate it); the gate
+commanded vehicle motion since then, or with ``behaviour.track_reckoning`` vehicle by the vehicle's motion under
+the commands (``coast.py``: in ALT_HOLD it coasts on after a neutral command); yaw turns the scene about the
+camera's vertical axis, surge/sway/heave translate it; the gate
 grows with the time since the last sighting. The model keeps the first sighting's descriptors (the
 identity) plus the latest sighting's (the appearance up close). A target whose decision sighting holds
 few descriptors starts with those of all its sightings over the decision's frames (``pooled_model``).
@@ -77,7 +78,7 @@ class TrackerConfig:
     max_extent_m: float = 0.6
     refuse_neighbours: bool = True
     surface_slope: float = 2.0
-    motion: MotionModel = MotionModel(0.23, 0.56, 0.35, 0.6)
+    motion: MotionModel = MotionModel()
 
     @classmethod
     def from_params(cls, params: Mapping) -> "TrackerConfig":

@@ -50,7 +50,7 @@ def test_a_velocity_loop_and_the_yaw_lag_first_order():
 def test_the_model_follows_the_simulated_vehicle_in_alt_hold():
     """Thrust that holds the commanded speed, then none: the model's travel matches ``sitl.dynamics`` within 2 cm,
     where moving as commanded falls 0.2 m short."""
-    params = load_params()
+    params = load_params(overrides={"behaviour.track_reckoning": "vehicle"})
     vehicle = VehicleParams.from_params(params)
     dynamics, dt_s = Dynamics(vehicle), 0.01
     plan = [(VelocityCommand(surge_m_s=0.3), 3.0), (NEUTRAL, 3.0)]
@@ -65,5 +65,7 @@ def test_the_model_follows_the_simulated_vehicle_in_alt_hold():
 
 
 def test_the_model_is_chosen_by_the_control_path():
-    assert MotionModel.from_params(load_params(overrides={"link.output_mode": "guided_velocity"})).coast_m == 0.0
-    assert MotionModel.from_params(load_params(overrides={"behaviour.track_reckoning": "commands"})) == MotionModel()
+    vehicle = {"behaviour.track_reckoning": "vehicle"}
+    guided = MotionModel.from_params(load_params(overrides={**vehicle, "link.output_mode": "guided_velocity"}))
+    assert guided.coast_m == 0.0 and guided.surge_lag_s > 0.0
+    assert MotionModel.from_params(load_params()) == MotionModel()  # the default: as commanded

@@ -86,8 +86,9 @@ def test_rewind_after_the_nod_predicts_from_where_the_target_was_and_forgives_it
 
 
 def test_an_unseen_target_is_predicted_where_the_coasting_vehicle_carries_it():
-    """After the servo's neutral the vehicle coasts on in ALT_HOLD: the prediction keeps moving (the modelled
-    velocity), where moving as commanded would have stopped it; a new start forgets the old speed."""
+    """After the servo's neutral the vehicle coasts on in ALT_HOLD: with ``behaviour.track_reckoning`` vehicle the
+    prediction keeps moving (the modelled velocity), where moving as commanded (the default) stops it; a new start
+    forgets the old speed."""
     from dip3d_vehicle.perception.values import Candidates, ObjectCandidate
 
     rig = load_scenario("paper_pool", 0).rig()
@@ -96,7 +97,8 @@ def test_an_unseen_target_is_predicted_where_the_coasting_vehicle_carries_it():
     target = ObjectCandidate(np.array([800.0, 600.0]), np.array([0.0, 0.0, 3.0]), 0.02, (0, 1, 2, 3))
     ahead = VelocityCommand(surge_m_s=0.3)
     depths = {}
-    for name, config in (("vehicle", TrackerConfig()), ("commands", TrackerConfig(motion=MotionModel()))):
+    vehicle = MotionModel.from_params(load_params(overrides={"behaviour.track_reckoning": "vehicle"}))
+    for name, config in (("vehicle", TrackerConfig(motion=vehicle)), ("commands", TrackerConfig())):
         tracker = TargetTracker(config, rig)
         tracker.start(target, cands, 0.0)
         for k in range(1, 21):  # 2 s ahead at 0.3 m/s, then 2 s of neutral, the target unseen throughout
