@@ -38,8 +38,8 @@ from dataclasses import dataclass
 import numpy as np
 
 __all__ = ["DIRECT_BAND_M", "HULL_HALF_LENGTH_M", "MAX_ORBIT_RAD", "ORBIT_REFINE_RAD", "ORBIT_STEP_RAD",
-           "STANDOFF_STEP_M", "Sidestep", "Way", "across_and_along", "approach_end_m", "distance_to_path_m", "orbit_end_m", "orbit_ends_m",
-           "plan_way", "sidestep"]
+           "STANDOFF_STEP_M", "Sidestep", "Way", "across_and_along", "approach_end_m", "distance_to_path_m",
+           "orbit_end_m", "orbit_ends_m", "plan_way", "sidestep"]
 
 GAIN_PER_S = 1.0
 """Sway speed per metre of lateral offset from the way's stand-off point, 1/s (capped by the servo's sway limit)."""
