@@ -78,7 +78,7 @@ class BehaviourConfig:
     track_pool_below: int = 50
     track_neighbours: bool = True
     track_surface_slope: float = 2.0
-    track_reckoning: str = "commands"
+    track_reckoning: str = "vehicle"
     track_coast_m: float = 0.23
     lost_grace_s: float = 1.0
     lost_timeout_s: float = 6.0
@@ -86,7 +86,7 @@ class BehaviourConfig:
     look_round_speed_m_s: float = 0.15
     servo_timeout_s: float = 90.0
     servo_clearance_m: float = 0.6
-    servo_diver_margin_m: float = 0.3
+    servo_diver_margin_m: float = 0.4
     arrive_tolerance_px: float = 40.0
     arrive_tolerance_m: float = 0.10
     arrive_hysteresis: float = 1.5
