@@ -11,9 +11,10 @@ command ``c`` is the speed its thrust holds steady); under the autopilot's own v
 lag first-order; the yaw rate lags first-order on both paths; heave follows the command at once (the depth
 is held).
 
-The tracker uses it with ``behaviour.track_reckoning`` vehicle. Not the default: the servo's way round the diver
-(``behaviour.servo_diver_margin_m``) was calibrated on offsets carried by the commands, and with this model's
-truer offsets the least pass by the diver's body over 333 simulated missions fell from 0.99 to 0.81 m.
+The tracker uses it with ``behaviour.track_reckoning`` vehicle, the default since issue 11 session 60 (``commands``
+moves as commanded). The servo's margin round the diver (``behaviour.servo_diver_margin_m``) had been calibrated on
+offsets carried by the commands: with this model's truer offsets and the old 0.3 m the least pass by the diver's body
+over 333 simulated missions fell from 0.99 to 0.81 m, so the margin went to 0.4 m with it (1.06 m).
 """
 
 from __future__ import annotations

@@ -78,7 +78,8 @@ class TrackerConfig:
     max_extent_m: float = 0.6
     refuse_neighbours: bool = True
     surface_slope: float = 2.0
-    motion: MotionModel = MotionModel()
+    motion: MotionModel = MotionModel(coast_m=0.23, surge_lag_s=0.56, sway_lag_s=0.35, yaw_lag_s=0.6)
+    """The schema's defaults: vehicle reckoning under manual_control (``behaviour.track_coast_m``, ``servo.tau_*``)."""
 
     @classmethod
     def from_params(cls, params: Mapping) -> "TrackerConfig":

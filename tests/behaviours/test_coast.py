@@ -68,4 +68,7 @@ def test_the_model_is_chosen_by_the_control_path():
     vehicle = {"behaviour.track_reckoning": "vehicle"}
     guided = MotionModel.from_params(load_params(overrides={**vehicle, "link.output_mode": "guided_velocity"}))
     assert guided.coast_m == 0.0 and guided.surge_lag_s > 0.0
-    assert MotionModel.from_params(load_params()) == MotionModel()  # the default: as commanded
+    commands = MotionModel.from_params(load_params(overrides={"behaviour.track_reckoning": "commands"}))
+    assert commands == MotionModel()  # as commanded
+    default = MotionModel.from_params(load_params())  # vehicle since issue 11 session 60
+    assert default == MotionModel.from_params(load_params(overrides=vehicle)) and default.coast_m > 0.0

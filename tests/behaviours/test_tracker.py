@@ -87,8 +87,8 @@ def test_rewind_after_the_nod_predicts_from_where_the_target_was_and_forgives_it
 
 def test_an_unseen_target_is_predicted_where_the_coasting_vehicle_carries_it():
     """After the servo's neutral the vehicle coasts on in ALT_HOLD: with ``behaviour.track_reckoning`` vehicle the
-    prediction keeps moving (the modelled velocity), where moving as commanded (the default) stops it; a new start
-    forgets the old speed."""
+    prediction keeps moving (the modelled velocity), where moving as commanded (``commands``, the default before issue
+    11 session 60) stops it; a new start forgets the old speed."""
     from dip3d_vehicle.perception.values import Candidates, ObjectCandidate
 
     rig = load_scenario("paper_pool", 0).rig()
@@ -98,7 +98,8 @@ def test_an_unseen_target_is_predicted_where_the_coasting_vehicle_carries_it():
     ahead = VelocityCommand(surge_m_s=0.3)
     depths = {}
     vehicle = MotionModel.from_params(load_params(overrides={"behaviour.track_reckoning": "vehicle"}))
-    for name, config in (("vehicle", TrackerConfig(motion=vehicle)), ("commands", TrackerConfig())):
+    assert TrackerConfig().motion == vehicle  # the default
+    for name, config in (("vehicle", TrackerConfig()), ("commands", TrackerConfig(motion=MotionModel()))):
         tracker = TargetTracker(config, rig)
         tracker.start(target, cands, 0.0)
         for k in range(1, 21):  # 2 s ahead at 0.3 m/s, then 2 s of neutral, the target unseen throughout
