@@ -6,9 +6,9 @@ are grouped into objects (``group_objects``, as the selector does); the target i
 the most descriptor matches to the model (Lowe's ratio test; each model descriptor counts once) whose
 centre lies inside a gate around the predicted centre; of an object wider than one target (two placards joined by a
 line on the floor), only the part around the features that match. The prediction moves the last centre by the
-commanded vehicle motion since then, or with ``behaviour.track_reckoning`` vehicle by the vehicle's motion under
-the commands (``coast.py``: in ALT_HOLD it coasts on after a neutral command); yaw turns the scene about the
-camera's vertical axis, surge/sway/heave translate it; the gate
+vehicle's motion under the commands since then (``behaviour.track_reckoning`` vehicle, ``coast.py``: in ALT_HOLD it
+coasts on after a neutral command; ``commands``: as commanded); yaw turns the scene about the camera's vertical
+axis, surge/sway/heave translate it; the gate
 grows with the time since the last sighting. The model keeps the first sighting's descriptors (the
 identity) plus the latest sighting's (the appearance up close). A target whose decision sighting holds
 few descriptors starts with those of all its sightings over the decision's frames (``pooled_model``).
