@@ -4,24 +4,20 @@ turned by the dead-reckoned yaw) against the truth, over a run's tracked frames:
 Truth: each neighbour offset against the nearest true placard offset from the tracked placard; the diver's shoulder
 offset against the true shoulder (the first diver point is the triangulated shoulder). Camera frame, m."""
 import sys
+from pathlib import Path
 import numpy as np
-import behaviours.tracker as T
-from dip3d_vehicle.config import load_params
-from sitl.scenario import load_scenario
-from sitl.simulation import Simulation, sim_params
+sys.path.insert(0, str(Path(__file__).parent))
+from hooked import placards_cam_m, run_hooked  # noqa: E402
 
 scenario, seed = sys.argv[1], int(sys.argv[2])
 sets = dict(a.split("=", 1) for a in sys.argv[3:])
-sc = load_scenario(scenario, seed)
-sim = Simulation(sc, sim_params(load_params(overrides=sets) if sets else load_params(), sc))
-orig, rows = T.TargetTracker.update, []
+rows = []
 
 
-def update(self, candidates, xyz_m, stamp_s, command=None):
-    out = orig(self, candidates, xyz_m, stamp_s, command)
+def hook(self, sim, stamp_s, pred, out):
     meta = sim.last_meta
     if meta and self.last is not None:
-        pl = {pid: sim.rig.R1 @ np.asarray(i["xyz_cam_m"]) for pid, i in meta["placards"].items()}
+        pl = placards_cam_m(sim, meta)
         tid = min(pl, key=lambda k: np.linalg.norm(pl[k] - self.last.xyz_m))
         errs = [min(np.linalg.norm(n - (pl[p] - pl[tid])) for p in pl if p != tid) for n in self.neighbours_m]
         j = meta.get("joints_cam_m")
@@ -29,14 +25,9 @@ def update(self, candidates, xyz_m, stamp_s, command=None):
         d = (float(np.linalg.norm(self.diver_m[0] - (sim.rig.R1 @ np.asarray(sh) - pl[tid])))
              if sh is not None and len(self.diver_m) else None)
         rows.append((stamp_s, max(errs) if errs else None, d))
-    return out
 
 
-T.TargetTracker.update = update
-try:
-    res = sim.run()
-finally:
-    sim.close()
+res, _ = run_hooked(scenario, seed, sets, hook)
 n = sorted(r[1] for r in rows if r[1] is not None)
 d = sorted(r[2] for r in rows if r[2] is not None)
 q = lambda v: f"median {v[len(v) // 2]:.3f} p90 {v[int(len(v) * 0.9)]:.3f} max {v[-1]:.3f}" if v else "-"

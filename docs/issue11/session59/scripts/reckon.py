@@ -3,11 +3,10 @@
 Prints, per streak of >= 3 missed frames, the error |predicted - true| (camera frame, m) at 1, 2, 3 s after the last
 sighting and at the streak's end, and the prediction's own displacement against the truth's."""
 import sys
+from pathlib import Path
 import numpy as np
-import behaviours.tracker as T
-from dip3d_vehicle.config import load_params
-from sitl.scenario import load_scenario
-from sitl.simulation import Simulation, sim_params
+sys.path.insert(0, str(Path(__file__).parent))
+from hooked import placards_cam_m, run_hooked  # noqa: E402
 
 args = sys.argv[1:]
 sets = args[args.index("--") + 1:] if "--" in args else []
@@ -16,18 +15,12 @@ specs = args[:args.index("--")] if "--" in args else args
 
 def run(spec):
     name, seed = spec.rsplit(":", 1)
-    sc = load_scenario(name, int(seed))
-    params = load_params(overrides=dict(kv.split("=", 1) for kv in sets)) if sets else load_params()
-    sim = Simulation(sc, sim_params(params, sc))
     rows, state = [], {}
-    orig = T.TargetTracker.update
 
-    def update(self, candidates, xyz_m, stamp_s, command=None):
-        pred = self.predicted_xyz(stamp_s, command)
-        out = orig(self, candidates, xyz_m, stamp_s, command)
+    def hook(self, sim, stamp_s, pred, out):
         meta = sim.last_meta
         if meta and self.last is not None:
-            pl = {pid: sim.rig.R1 @ np.asarray(i["xyz_cam_m"]) for pid, i in meta["placards"].items()}
+            pl = placards_cam_m(sim, meta)
             if out is not None:
                 state["tid"] = min(pl, key=lambda k: np.linalg.norm(pl[k] - out.xyz_m))
                 state["seen"] = (stamp_s, out.xyz_m.copy(), pl[state["tid"]].copy())
@@ -36,17 +29,9 @@ def run(spec):
                 truth = pl[state["tid"]]
                 rows.append((stamp_s, stamp_s - t0, float(np.linalg.norm(pred - truth)),
                              float(np.linalg.norm(pred - fix)), float(np.linalg.norm(truth - truth0))))
-            else:
-                pass
         if out is not None:
             rows.append((stamp_s, None, 0, 0, 0))
-        return out
-    T.TargetTracker.update = update
-    try:
-        res = sim.run()
-    finally:
-        sim.close()
-        T.TargetTracker.update = orig
+    res, _ = run_hooked(name, int(seed), dict(kv.split("=", 1) for kv in sets), hook)
     streaks, cur = [], []
     for r in rows:
         if r[1] is None:
