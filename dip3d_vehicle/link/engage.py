@@ -22,7 +22,10 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-__all__ = ["EngageInputs", "EngageDecision", "blockers", "decide", "LATCHING_REASONS"]
+__all__ = ["EngageInputs", "EngageDecision", "blockers", "decide", "LATCHING_REASONS", "PERCEPTION_HOLDS"]
+
+PERCEPTION_HOLDS = ("perception stale", "perception starting")
+"""The blockers that only hold the controller (the last in priority order: with one of them first, all else holds)."""
 
 
 @dataclass(frozen=True)
@@ -115,9 +118,9 @@ def blockers(inp: EngageInputs) -> list[str]:
     if inp.output_problem:
         out.append(inp.output_problem)
     if not inp.perception_fresh:
-        out.append("perception stale")
+        out.append(PERCEPTION_HOLDS[0])
     elif not inp.perception_steady:
-        out.append("perception starting")
+        out.append(PERCEPTION_HOLDS[1])
     return out
 
 

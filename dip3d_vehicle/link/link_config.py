@@ -38,6 +38,7 @@ class LinkConfig:
     param_give_up_s: float
     reconnect_s: float
     signing_key_file: str
+    max_command_hold_s: float
     rates_hz: tuple[tuple[str, float], ...]
 
     @classmethod
@@ -61,6 +62,11 @@ class LinkConfig:
         if output_mode == "manual_control" and engage_mode == "GUIDED":
             raise LinkError("link.engage_mode = GUIDED: manual_control needs ALT_HOLD or STABILIZE "
                             "(use link.output_mode guided_velocity for GUIDED)")
+        hold = get("link.max_command_hold_s")
+        if 0 < hold < 5.0 / get("link.setpoint_rate_hz"):
+            raise LinkError(f"link.max_command_hold_s = {hold:g}: shorter than five setpoint periods "
+                            f"(link.setpoint_rate_hz {get('link.setpoint_rate_hz'):g}); the autopilot would "
+                            f"drop the controller's own stream between messages (0 = leave FS_PILOT_TIMEOUT)")
         rates = [("ATTITUDE", get("link.rate.attitude_hz")),
                  ("GLOBAL_POSITION_INT", get("link.rate.global_position_int_hz")),
                  ("VFR_HUD", get("link.rate.vfr_hud_hz")),
@@ -70,7 +76,7 @@ class LinkConfig:
         names = ("url", "baud", "system_id", "component_id", "target_system", "target_component",
                  "gcs_system_id", "setpoint_rate_hz", "heartbeat_rate_hz", "autopilot_timeout_s",
                  "gcs_timeout_s", "require_gcs", "perception_timeout_s", "auto_enable", "stop_zero_s",
-                 "param_retry_s", "param_give_up_s", "reconnect_s", "signing_key_file")
+                 "param_retry_s", "param_give_up_s", "reconnect_s", "signing_key_file", "max_command_hold_s")
         return cls(output_mode=output_mode, engage_mode=engage_mode,
                    rates_hz=tuple((n, float(r)) for n, r in rates if r > 0),
                    **{n: get(f"link.{n}") for n in names})

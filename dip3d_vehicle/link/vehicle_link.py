@@ -34,7 +34,8 @@ Stopping: on every disengage the link streams the stop value (manual_control: ce
 x = y = r = 0, z = 500; guided_velocity: zero velocity AND zero yaw rate, since ArduSub keeps a
 GUIDED yaw rate forever) at the setpoint rate for ``link.stop_zero_s`` (1 s), the first one on
 the same tick, then falls silent. Neutral sticks are needed because ArduSub keeps the last
-MANUAL_CONTROL for 3 s after the stream stops; silence afterwards hands the sticks back to the
+MANUAL_CONTROL until its pilot-input failsafe (``FS_PILOT_TIMEOUT``, 3 s; 1 s while the controller holds
+the sticks, ``link.max_command_hold_s``: ``command_hold.py``); silence afterwards hands the sticks back to the
 pilot's own joystick (which also sends MANUAL_CONTROL from SYSID_MYGCS and would otherwise fight
 ours) and lets the autopilot's own failsafes act. The link never sends a non-neutral command while
 disengaged. See ``engage.py`` for when it engages and the re-engage (enable latch) policy.
@@ -43,8 +44,9 @@ Perception: a stale tick (the caller's flag, or the stamp older than ``link.perc
 disengages on that tick. To engage the first time after the operator's enable, perception must have
 been fresh without a break for 0.4 s ("perception starting" until then), so a just-starting pipeline
 holds instead of flipping engaged / disengaged (seen at the start of ``run`` on 2 cores). After a
-stale hold it resumes on the first fresh tick: a longer hold would outlast ArduSub's pilot-input
-failsafe (3 s after the stop stream ends) and the vehicle would be disarmed.
+stale hold it resumes on the first fresh tick. While perception alone holds a controller that engaged on
+this enable, the stop value streams on (not only for ``stop_zero_s``): silence would let the pilot-input
+failsafe disarm a vehicle that only waits for its camera (issue 11 session 61).
 """
 
 from __future__ import annotations
@@ -60,7 +62,7 @@ from ..errors import LinkError
 from ..servo.command import VelocityCommand
 from .autopilot_requests import AutopilotRequests, gcs_sysid_param
 from .connection import gcs_encoder, mavlink2, open_connection, url_kind
-from .engage import EngageInputs, decide
+from .engage import PERCEPTION_HOLDS, EngageInputs, decide
 from .link_config import ENGAGE_MODE_AUTO, LinkConfig
 from .setpoints import (NEUTRAL_STICKS, ZERO_GUIDED, GuidedVelocity, ManualControl,
                         StickDither, guided_from_velocity)
@@ -187,6 +189,7 @@ class VehicleLink:
         if self.stats.gcs_id_withheld:
             self._event(f"{self.stats.gcs_id_withheld} MANUAL_CONTROL withheld: the ground station was lost, "
                         f"its system id is used only while it is heard")
+        self._requests.hold.restore()
         self._event("closed")
         try:
             self._conn.close()
@@ -292,7 +295,9 @@ class VehicleLink:
         self._requests.start(self.clock.now())
 
     def _on_param_value(self, msg: Any) -> None:
-        """Take the ground station's system id from SYSID_MYGCS / MAV_GCS_SYSID."""
+        """Take the ground station's system id from SYSID_MYGCS / MAV_GCS_SYSID (the pilot-input failsafe's: ``command_hold``)."""
+        if self._requests.hold.on_param_value(msg, self.clock.now()):
+            return
         param = gcs_sysid_param(msg)
         if param is None:
             return
@@ -383,6 +388,7 @@ class VehicleLink:
             self._send_setpoint(now, command)
             self._next_setpoint_s = _next_time(self._next_setpoint_s, 1.0 / self.config.setpoint_rate_hz, now)
         self._requests.retry(now, self.gcs.sysid_from_autopilot)
+        self._requests.hold.update(now, self._engaged or self._perception_hold())
         return self._engaged
 
     def _inputs(self, now: float, perception_fresh: bool) -> EngageInputs:
@@ -441,19 +447,29 @@ class VehicleLink:
             self._event(f"disengaged: {reason}")
 
     def _send_setpoint(self, now: float, command: VelocityCommand | None) -> None:
-        """Send the command while engaged, the stop value during the stop window, else nothing."""
+        """Send the command while engaged, the stop value during the stop window and a perception hold, else
+        nothing."""
         if self._engaged:
             cmd = command if command is not None else VelocityCommand()
             if self.config.output_mode == "manual_control":
                 self._send_manual_control(self._dither.sticks(cmd))
             else:
                 self._send_guided(guided_from_velocity(cmd))
+            return
+        self._dither.reset()
+        if self._perception_hold():
+            self._send_stop()
         elif self._stop_until_s is not None:
-            self._dither.reset()
             if now <= self._stop_until_s:
                 self._send_stop()
             else:
                 self._stop_until_s = None
+
+    def _perception_hold(self) -> bool:
+        """True while only perception (stale, or settling again) holds a controller that engaged on this enable: the
+        stop value streams on, so ArduSub's pilot-input failsafe (``command_hold``) does not disarm a vehicle that
+        only waits for its camera."""
+        return self._enabled and self._engaged_since_enable and self.not_engaged_reason in PERCEPTION_HOLDS
 
     def _send_stop(self) -> None:
         """Send one stop value: centred sticks (manual_control) or zero velocity + yaw rate (guided)."""

@@ -50,3 +50,5 @@ def test_paper_pool_mission_arrives_on_the_firmware() -> None:
     assert math.hypot(end[1] - start[1], end[2] - start[2]) > 0.3  # its own physics moved the camera
     done_t = r.time_to_arrive_s
     assert not [x for x in motion if x.t_s > done_t + 0.2]  # nothing moves it after it reported arrival
+    assert [line for line in r.story if "FS_PILOT_TIMEOUT to 1 s while the controller holds the sticks" in line], r.story[:20]
+    assert [line for line in sim.link.events if "FS_PILOT_TIMEOUT put back to 3 s" in line]  # at close
