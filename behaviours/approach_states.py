@@ -254,9 +254,9 @@ class LostTarget(MissionState):
 
     def sway(self, bb: Blackboard) -> None:
         """Command the step's sway until the commanded distance covers it, then nothing."""
-        now, command = bb.now_s, bb.command
-        if self.last_s is not None and command is not None:
-            self.moved_m += abs(command.sway_m_s) * max(now - self.last_s, 0.0)
+        now, command, moving = bb.now_s, bb.command, bb.command_in_force
+        if self.last_s is not None and moving is not None:
+            self.moved_m += abs(moving.sway_m_s) * max(now - self.last_s, 0.0)
         self.last_s = now
         if abs(self.step_m) - self.moved_m > 1e-6:
             bb.set_command(VelocityCommand(sway_m_s=math.copysign(bb.config.look_round_speed_m_s, self.step_m)))

@@ -136,7 +136,7 @@ class Mission:
         bb, tracker = self.bb, self.bb.tracker
         if self.needs != "track" or not tracker.active or (self.state == "lost_target" and tracker.misses % 2):
             return None
-        xyz = tracker.predicted_xyz(bb.now_s, bb.command)
+        xyz = tracker.predicted_xyz(bb.now_s, bb.command_in_force)
         if xyz is None or xyz[2] < 0.2:
             return None
         f = rig.focal_px

@@ -66,7 +66,7 @@ def track_target(bb: Blackboard) -> tuple[bool, TrackedTarget | None]:
     obs = bb.observation
     if obs is None or obs.track is None:
         return False, None
-    found = bb.tracker.update(obs.track.candidates, obs.track.xyz_m, obs.stamp_s, bb.command)
+    found = bb.tracker.update(obs.track.candidates, obs.track.xyz_m, obs.stamp_s, bb.command_in_force)
     if found is not None:
         bb.target = found
     return True, found

@@ -291,10 +291,15 @@ def _servoing(rig, **over):
 
 
 def _tick_at(m, t: float, track: TrackFrame | None = None):
-    """One tick at ``t`` with an optional tracking frame captured then; return the trigger fired."""
+    """One tick at ``t`` with an optional tracking frame captured then; return the trigger fired. Perception is fresh
+    as the loop judges it: the newest frame at most ``behaviour.perception_stale_s`` old."""
     m.bb.now_s = t
     m.bb.observation = Observation(t, int(t * 50), track=track) if track is not None else None
+    last = m.bb.observation or m.bb.last_observation
+    m.bb.perception_fresh = last is not None and t - last.stamp_s <= m.bb.config.perception_stale_s
     out = m.tick()
+    if m.bb.observation is not None:
+        m.bb.last_observation = m.bb.observation
     m.bb.observation = None
     return out
 
@@ -334,6 +339,23 @@ def test_a_loss_during_the_approach_stops_motion_at_once_and_keeps_the_target(ri
         assert _tick_at(m, 0.1 + 0.2 * k, frame) is None
         assert m.state == "suspended" and m.bb.command is None
     assert m.bb.tracker.misses == 0 and m.bb.tracker.last_seen_s == pytest.approx(0.1 + 0.2 * 19)
+
+
+def test_a_perception_hold_keeps_the_servo_command_but_the_reckoning_stops_with_the_vehicle(rig):
+    """Stale perception holds the state (its ``command`` kept) while the link sends only its stop value: the tracker
+    and its search box reckon with what the vehicle does (issue 11 session 61, ``camera_black`` seed 5: the servo's
+    approach carried on for 3.3 s in the prediction, which then sat on the placard in front)."""
+    m, frame = _servoing(rig)
+    for k in range(1, 4):
+        _tick_at(m, 0.2 * k, frame)
+    command, target = m.bb.command, m.bb.tracker.xyz_m.copy()
+    assert command is not None and command.surge_m_s > 0.05 and m.bb.command_in_force == command
+    m.bb.engaged, m.bb.hold_reason = False, "perception stale"
+    _tick_at(m, 3.6)  # no frame for 3 s
+    assert m.state == "servo" and m.bb.command == command and m.bb.command_in_force is None
+    held = m.bb.tracker.predicted_xyz(3.6, m.bb.command_in_force)
+    driven = m.bb.tracker.predicted_xyz(3.6, command)
+    assert target[2] - held[2] < 0.5 * (target[2] - driven[2])  # coasting from its speed, not driving on
 
 
 def test_re_engaged_after_the_re_enable_with_the_target_tracked_resumes_the_servo(rig):
