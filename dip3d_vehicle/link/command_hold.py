@@ -83,7 +83,7 @@ class CommandHold:
             self._first_s, self._given_up, self.value_s = now, False, None
             self._read(now)
 
-    def on_param_value(self, msg: Any, now: float) -> bool:
+    def on_param_value(self, msg: Any) -> bool:
         """Take a PARAM_VALUE; return True when it was the pilot-input timeout or switch (handled here)."""
         name = _param_name(msg)
         if name not in (PARAM, SWITCH):

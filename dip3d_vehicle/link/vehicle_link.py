@@ -296,7 +296,7 @@ class VehicleLink:
 
     def _on_param_value(self, msg: Any) -> None:
         """Take the ground station's system id from SYSID_MYGCS / MAV_GCS_SYSID (the pilot-input failsafe's: ``command_hold``)."""
-        if self._requests.hold.on_param_value(msg, self.clock.now()):
+        if self._requests.hold.on_param_value(msg):
             return
         param = gcs_sysid_param(msg)
         if param is None:
