@@ -1,7 +1,6 @@
 """What the link asks of the autopilot and waits for: the ground station's system id (SYSID_MYGCS,
-MAV_GCS_SYSID on ArduSub 4.7+) by PARAM_REQUEST_READ, the message rates by
-MAV_CMD_SET_MESSAGE_INTERVAL, and the pilot-input timeout (``command_hold``); each re-sent every
-``link.param_retry_s`` until answered.
+MAV_GCS_SYSID on ArduSub 4.7+) by PARAM_REQUEST_READ, and the message rates by
+MAV_CMD_SET_MESSAGE_INTERVAL; each re-sent every ``link.param_retry_s`` until answered.
 
 The SYSID_MYGCS read is given up (reported once, still asked) after ``link.param_give_up_s``; a
 SET_MESSAGE_INTERVAL after three unacknowledged tries. Everything is asked afresh whenever the
@@ -15,7 +14,6 @@ from typing import Any, Callable
 
 from pymavlink import mavutil
 
-from .command_hold import CommandHold
 from .connection import mavlink2
 from .link_config import LinkConfig
 
@@ -45,8 +43,6 @@ class AutopilotRequests:
 
     Attributes:
         sysid_given_up: True once SYSID_MYGCS went unanswered for ``link.param_give_up_s``.
-        hold: the autopilot's pilot-input timeout (FS_PILOT_TIMEOUT), read here; lowered by the link while it holds
-            the sticks (``CommandHold.update``).
     """
 
     def __init__(self, config: LinkConfig, send: Callable[[str, Any], None], event: Callable[[str], None],
@@ -57,7 +53,6 @@ class AutopilotRequests:
         self._sysid_first_s: float | None = None
         self._sysid_last_s: float | None = None
         self._intervals_pending: deque[list] = deque()
-        self.hold = CommandHold(config, send, event, warn)
 
     def start(self, now: float) -> None:
         """Ask for every configured message interval and the ground station's system id afresh."""
@@ -68,7 +63,6 @@ class AutopilotRequests:
         self._sysid_first_s = now
         self.sysid_given_up = False
         self._request_gcs_sysid(now)
-        self.hold.start(now)
 
     def sysid_answered(self) -> None:
         """The autopilot answered the SYSID_MYGCS read: stop the give-up clock."""

@@ -61,6 +61,7 @@ from ..clock import Clock
 from ..errors import LinkError
 from ..servo.command import VelocityCommand
 from .autopilot_requests import AutopilotRequests, gcs_sysid_param
+from .command_hold import CommandHold
 from .connection import gcs_encoder, mavlink2, open_connection, url_kind
 from .engage import PERCEPTION_HOLDS, EngageInputs, decide
 from .link_config import ENGAGE_MODE_AUTO, LinkConfig
@@ -121,6 +122,7 @@ class VehicleLink:
         self._next_setpoint_s = 0.0
         self._next_heartbeat_s = 0.0
         self._requests = AutopilotRequests(c, self._send, self._event, self._warn)
+        self._hold = CommandHold(c, self._send, self._event, self._warn)  # the autopilot's FS_PILOT_TIMEOUT
         self._sent_setpoints = False
         self._tcp_dead_since: float | None = None
         self._fresh_since: float | None = None
@@ -189,7 +191,7 @@ class VehicleLink:
         if self.stats.gcs_id_withheld:
             self._event(f"{self.stats.gcs_id_withheld} MANUAL_CONTROL withheld: the ground station was lost, "
                         f"its system id is used only while it is heard")
-        self._requests.hold.restore()
+        self._hold.restore()
         self._event("closed")
         try:
             self._conn.close()
@@ -293,10 +295,11 @@ class VehicleLink:
         self.autopilot = replace(self.autopilot, boots=self.autopilot.boots + 1)
         self._event(why + ": requesting message intervals and SYSID_MYGCS")
         self._requests.start(self.clock.now())
+        self._hold.start(self.clock.now())
 
     def _on_param_value(self, msg: Any) -> None:
         """Take the ground station's system id from SYSID_MYGCS / MAV_GCS_SYSID (the pilot-input failsafe's: ``command_hold``)."""
-        if self._requests.hold.on_param_value(msg):
+        if self._hold.on_param_value(msg):
             return
         param = gcs_sysid_param(msg)
         if param is None:
@@ -388,7 +391,7 @@ class VehicleLink:
             self._send_setpoint(now, command)
             self._next_setpoint_s = _next_time(self._next_setpoint_s, 1.0 / self.config.setpoint_rate_hz, now)
         self._requests.retry(now, self.gcs.sysid_from_autopilot)
-        self._requests.hold.update(now, self._engaged or self._perception_hold())
+        self._hold.update(now, self._engaged or self._perception_hold())
         return self._engaged
 
     def _inputs(self, now: float, perception_fresh: bool) -> EngageInputs:
