@@ -34,7 +34,7 @@ from __future__ import annotations
 
 from transitions import Machine
 
-from dip3d_vehicle.link.engage import LATCHING_REASONS, PERCEPTION_HOLDS
+from dip3d_vehicle.link.engage import LATCHING_REASONS, PERCEPTION_HOLDS, PERCEPTION_STALE
 
 from .blackboard import Blackboard
 from .gesture import StopGestureWatch
@@ -79,8 +79,6 @@ TRANSITIONS: list[dict] = [
 ]
 """The whole machine: trigger, source state(s), destination."""
 
-PERCEPTION_STALE = PERCEPTION_HOLDS[0]
-"""The link's not-engaged reason that only holds the mission (the machine does not go to idle)."""
 HOLD_REASONS = PERCEPTION_HOLDS
 """Not-engaged reasons that only hold the mission: stale perception, and perception settling after it."""
 

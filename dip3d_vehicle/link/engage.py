@@ -22,9 +22,12 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-__all__ = ["EngageInputs", "EngageDecision", "blockers", "decide", "LATCHING_REASONS", "PERCEPTION_HOLDS"]
+__all__ = ["EngageInputs", "EngageDecision", "blockers", "decide", "LATCHING_REASONS", "PERCEPTION_STALE",
+           "PERCEPTION_STARTING", "PERCEPTION_HOLDS"]
 
-PERCEPTION_HOLDS = ("perception stale", "perception starting")
+PERCEPTION_STALE = "perception stale"
+PERCEPTION_STARTING = "perception starting"
+PERCEPTION_HOLDS = (PERCEPTION_STALE, PERCEPTION_STARTING)
 """The blockers that only hold the controller (the last in priority order: with one of them first, all else holds)."""
 
 
@@ -118,9 +121,9 @@ def blockers(inp: EngageInputs) -> list[str]:
     if inp.output_problem:
         out.append(inp.output_problem)
     if not inp.perception_fresh:
-        out.append(PERCEPTION_HOLDS[0])
+        out.append(PERCEPTION_STALE)
     elif not inp.perception_steady:
-        out.append(PERCEPTION_HOLDS[1])
+        out.append(PERCEPTION_STARTING)
     return out
 
 
