@@ -33,8 +33,8 @@ from .dynamics import Dynamics, VehicleParams, VehicleState, wrap_pi
 from .firmware_versions import firmware_profile
 from .mavftp import FtpServer
 from .mavlink_endpoint import Endpoint, Link
-from .modes import (MODE_NUMBERS, MODES, POSITION_MODES, ControlGains, Controller, GuidedTarget,
-                    PilotInput, joystick_to_pwm)
+from .modes import (AUTO_YAW_SLEW_RAD_S, MODE_NUMBERS, MODES, POSITION_MODES, ControlGains, Controller,
+                    GuidedTarget, PilotInput, joystick_to_pwm)
 from .sys_status import sys_status_bits
 
 __all__ = ["Autopilot", "Event", "ARDUSUB_PARAMS", "DEFAULT_INTERVALS_S"]
@@ -438,7 +438,7 @@ class Autopilot:
         body = frame in (M.MAV_FRAME_BODY_NED, M.MAV_FRAME_BODY_OFFSET_NED, M.MAV_FRAME_BODY_FRD)
         c, sn = (math.cos(s.yaw_rad), math.sin(s.yaw_rad)) if body else (1.0, 0.0)
         g = GuidedTarget(yaw_rad=self.guided.yaw_rad, yaw_rate_rad_s=self.guided.yaw_rate_rad_s,
-                         last_update_s=now)
+                         yaw_slew_rad_s=self.guided.yaw_slew_rad_s, last_update_s=now)
         if pos_ok:
             n, e = msg.x * c - msg.y * sn, msg.x * sn + msg.y * c
             if frame != M.MAV_FRAME_LOCAL_NED:
@@ -449,9 +449,12 @@ class Autopilot:
         if vel_ok:
             g.velocity_ned = (msg.vx * c - msg.vy * sn, msg.vx * sn + msg.vy * c, msg.vz)
             g.velocity_z_set = True
-        if not mask & _YAW_IGNORE:
-            g.yaw_rad, g.yaw_rate_rad_s = wrap_pi(msg.yaw + (s.yaw_rad if body else 0.0)), None
-        if not mask & _YAW_RATE_IGNORE:
+        if not mask & _YAW_IGNORE:  # relative only in BODY_OFFSET_NED (ArduSub); a yaw rate is then its speed
+            relative = frame == M.MAV_FRAME_BODY_OFFSET_NED
+            g.yaw_rad, g.yaw_rate_rad_s = wrap_pi(msg.yaw + (s.yaw_rad if relative else 0.0)), None
+            g.yaw_slew_rad_s = None if mask & _YAW_RATE_IGNORE or msg.yaw_rate == 0 else min(
+                msg.yaw_rate, AUTO_YAW_SLEW_RAD_S)  # as ArduSub: a negative one turns away from the heading
+        elif not mask & _YAW_RATE_IGNORE:
             g.yaw_rate_rad_s = msg.yaw_rate
         self.guided = g
         self._event("setpoint", (frame, mask))

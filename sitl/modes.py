@@ -24,6 +24,7 @@ from .dynamics import Forces, VehicleParams, VehicleState, wrap_pi
 __all__ = [
     "MODES", "MODE_NUMBERS", "POSITION_MODES", "PilotInput", "GuidedTarget", "ControlGains",
     "Controller", "joystick_to_pwm", "pilot_yaw_rate_rad_s", "pilot_climb_rate_m_s",
+    "GUIDED_HEADING_BAND_RAD", "AUTO_YAW_SLEW_RAD_S",
 ]
 
 #: HEARTBEAT.custom_mode numbers of ArduSub.
@@ -45,6 +46,8 @@ PWM_SPAN_US = 400.0  # 1100..1900
 # Forward too (tools/measure_ardusub_sticks.py --axis x): nothing up to 24 us (x = 120), then 0.115 / 0.144 /
 # 0.164 / 0.206 / 0.258 m/s at 26 / 28 / 32 / 40 / 50 us: the thrust starts at the dead zone's edge (no ramp).
 FORWARD_DEAD_ZONE_US = 25
+GUIDED_HEADING_BAND_RAD = math.radians(5.0)  # ArduSub's MAX_YAW_ERROR: nearer a GUIDED heading, it holds it
+AUTO_YAW_SLEW_RAD_S = math.radians(60.0)  # AUTO_YAW_SLEW_RATE: the turn speed of a heading sent without a yaw rate
 _YAW_TABLE_US = tuple([0.0, 23.0, 26.0, 34.2, 42.0, 50.0, 100.0, 200.0, 400.0])
 _YAW_TABLE_RAD_S = tuple([0.0, 0.0, 0.0435, 0.097, 0.154, 0.214, 0.593, 1.319, 2.771])  # 400 us: extrapolated
 _CLIMB_UP_US = tuple([0.0, 40.0, 60.0, 72.0, 80.0, 88.0, 100.0, 200.0, 400.0])
@@ -123,6 +126,7 @@ class GuidedTarget:
     position_z_set: bool = False
     yaw_rad: float | None = None
     yaw_rate_rad_s: float | None = None
+    yaw_slew_rad_s: float | None = None  # with yaw_rad: the turn speed toward it (None = AUTO_YAW_SLEW_RATE)
     last_update_s: float = -math.inf
 
 
@@ -236,10 +240,17 @@ class Controller:
             if self.depth_hold_m is None:
                 self.depth_hold_m = state.depth_m
             fz = self._heave_rate(self._depth_rate(self.depth_hold_m, state), state)
+        return Forces(fx, fy, fz, self._yaw_rate(self._guided_yaw_rate(g, state), state))
+
+    def _guided_yaw_rate(self, g: GuidedTarget, state: VehicleState) -> float:
+        """GUIDED's yaw: a rate kept forever; or a heading, turned toward at its slew speed while more than 5 deg
+        away and then held (ArduSub's ``input_euler_angle_roll_pitch_slew_yaw``), rad/s."""
         if g.yaw_rate_rad_s is not None:
-            r_t = g.yaw_rate_rad_s
-        elif g.yaw_rad is not None:
-            r_t = self.gains.guided_yaw_1_s * wrap_pi(g.yaw_rad - state.yaw_rad)
-        else:
-            r_t = 0.0
-        return Forces(fx, fy, fz, self._yaw_rate(r_t, state))
+            return g.yaw_rate_rad_s
+        if g.yaw_rad is None:
+            return 0.0
+        err = wrap_pi(g.yaw_rad - state.yaw_rad)
+        if abs(err) > GUIDED_HEADING_BAND_RAD:
+            slew = AUTO_YAW_SLEW_RAD_S if g.yaw_slew_rad_s is None else g.yaw_slew_rad_s
+            return slew if err >= 0 else -slew
+        return self.gains.guided_yaw_1_s * err

@@ -54,7 +54,7 @@ __all__ = [
     "ManualControl", "GuidedVelocity", "NEUTRAL_STICKS", "ZERO_GUIDED",
     "SURGE_TABLE", "SWAY_TABLE", "YAW_TABLE", "YAW_TABLES", "HEAVE_TABLE", "FIRMWARES",
     "manual_control_from_velocity", "guided_from_velocity", "StickDither", "first_moving_point",
-    "MAV_FRAME_BODY_NED", "TYPE_MASK_VELOCITY_YAW_RATE",
+    "MAV_FRAME_BODY_NED", "TYPE_MASK_VELOCITY_YAW_RATE", "TYPE_MASK_VELOCITY_YAW", "GUIDED_MIN_YAW_AHEAD_RAD",
 ]
 
 # (speed, stick) pairs measured in ALT_HOLD; stick x/y/r in -1000..1000.
@@ -84,7 +84,14 @@ MAV_FRAME_BODY_NED = 8
 """Velocity frame used in GUIDED: x forward / y right rotated by yaw only, z down (as measured)."""
 TYPE_MASK_VELOCITY_YAW_RATE = 1479
 """POSITION_TARGET_TYPEMASK: ignore position (1|2|4), acceleration (64|128|256) and yaw (1024);
-use vx, vy, vz and yaw_rate."""
+use vx, vy, vz and yaw_rate. ArduSub keeps such a yaw rate forever: it never times out."""
+TYPE_MASK_VELOCITY_YAW = 455
+"""Ignore position and acceleration; use vx, vy, vz, yaw and yaw_rate. In BODY_NED the yaw is an absolute heading,
+and ArduSub turns toward it at |yaw_rate| while it is more than 5 deg away, then holds it: a turn that ends by
+itself when the stream stops (real 4.7 SITL, docs/issue11/session62/scripts/guided_yaw_probe.py)."""
+GUIDED_MIN_YAW_AHEAD_RAD = 0.12
+"""The least heading lead of a GUIDED turn, rad: beyond ArduSub's 5 deg (0.087 rad) band where it stops turning
+at the given rate and holds the heading instead (tracked 0.009 of 0.05 rad/s with a 0.05 rad lead)."""
 
 
 @dataclass(frozen=True)
@@ -107,14 +114,20 @@ class ManualControl:
 
 @dataclass(frozen=True)
 class GuidedVelocity:
-    """SET_POSITION_TARGET_LOCAL_NED content: body-frame velocity m/s and yaw rate rad/s."""
+    """SET_POSITION_TARGET_LOCAL_NED content: body-frame velocity m/s and yaw rate rad/s, or with ``yaw_rad`` (an
+    absolute heading, rad) a turn toward that heading at ``yaw_rate_rad_s`` (then >= 0)."""
 
     vx_m_s: float = 0.0
     vy_m_s: float = 0.0
     vz_m_s: float = 0.0
     yaw_rate_rad_s: float = 0.0
+    yaw_rad: float | None = None
     frame: int = MAV_FRAME_BODY_NED
-    type_mask: int = TYPE_MASK_VELOCITY_YAW_RATE
+
+    @property
+    def type_mask(self) -> int:
+        """POSITION_TARGET_TYPEMASK: velocity + yaw rate, or velocity + heading + yaw rate with ``yaw_rad``."""
+        return TYPE_MASK_VELOCITY_YAW_RATE if self.yaw_rad is None else TYPE_MASK_VELOCITY_YAW
 
     def is_zero(self) -> bool:
         """Return True when velocity and yaw rate are all zero (an explicit stop)."""
@@ -165,24 +178,37 @@ def manual_control_from_velocity(cmd: VelocityCommand, firmware: str = "4.5") ->
                          z=clamp(z, 0, 1000), r=clamp(r, -1000, 1000))
 
 
-def guided_from_velocity(cmd: VelocityCommand, max_speed_m_s: float = 2.0,
-                         max_yaw_rate_rad_s: float = 1.5) -> GuidedVelocity:
-    """Map a velocity command to a GUIDED BODY_NED velocity + yaw-rate setpoint.
+def guided_from_velocity(cmd: VelocityCommand, heading_rad: float | None = None, hold_s: float = 0.0,
+                         max_speed_m_s: float = 2.0, max_yaw_rate_rad_s: float = 1.5) -> GuidedVelocity:
+    """Map a velocity command to a GUIDED BODY_NED setpoint whose turn ends by itself ``hold_s`` after the last one.
 
-    BODY_NED rotates x/y by the vehicle's yaw only and keeps z down, so heave is a plain down speed.
+    BODY_NED rotates x/y by the vehicle's yaw only and keeps z down, so heave is a plain down speed. ArduSub never
+    times out a GUIDED yaw rate, so with ``hold_s`` > 0 a turn is sent as a heading ``|r| * hold_s`` (at least
+    ``GUIDED_MIN_YAW_AHEAD_RAD``) ahead of ``heading_rad`` with the speed ``|r|``: while the setpoints keep coming
+    the vehicle turns at r, and after they stop it turns at most that far. No turn without a known heading then.
 
     Args:
         cmd: the servo's velocity command.
+        heading_rad: the vehicle's heading now (ATTITUDE.yaw), rad; None = unknown.
+        hold_s: how long a turn may outlive the stream, s; 0 = a plain yaw rate (turns until told otherwise).
         max_speed_m_s: clamp for each linear axis, m/s.
         max_yaw_rate_rad_s: clamp for the yaw rate, rad/s.
 
     Returns:
-        The setpoint with frame 8 and type_mask 1479; a non-finite axis becomes 0.
+        The setpoint with frame 8 and type_mask 1479 (no turn, or ``hold_s`` 0) or 455 (a heading); a non-finite
+        axis becomes 0.
     """
     lim = lambda v, m: min(max(_finite(v), -m), m)  # noqa: E731
+    rate = lim(cmd.yaw_rate_rad_s, max_yaw_rate_rad_s)
+    yaw_rad = None
+    if hold_s > 0 and rate != 0.0:
+        if heading_rad is None or not np.isfinite(heading_rad):
+            rate = 0.0
+        else:
+            ahead = heading_rad + math.copysign(max(abs(rate) * hold_s, GUIDED_MIN_YAW_AHEAD_RAD), rate)
+            yaw_rad, rate = math.atan2(math.sin(ahead), math.cos(ahead)), abs(rate)
     return GuidedVelocity(vx_m_s=lim(cmd.surge_m_s, max_speed_m_s), vy_m_s=lim(cmd.sway_m_s, max_speed_m_s),
-                          vz_m_s=lim(cmd.heave_m_s, max_speed_m_s),
-                          yaw_rate_rad_s=lim(cmd.yaw_rate_rad_s, max_yaw_rate_rad_s))
+                          vz_m_s=lim(cmd.heave_m_s, max_speed_m_s), yaw_rate_rad_s=rate, yaw_rad=yaw_rad)
 
 
 def first_moving_point(table: tuple[tuple[float, float], ...]) -> tuple[float, float]:

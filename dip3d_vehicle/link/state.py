@@ -43,6 +43,7 @@ class AutopilotState:
         system_status: HEARTBEAT.system_status (MAV_STATE).
         time_boot_ms: the largest recent time_boot_ms seen (reboot detection), None = none.
         boots: how many times it appeared (first contact, reappearance, reboot).
+        yaw_rad, yaw_s: its heading (ATTITUDE.yaw, rad) and when it was heard; None = never.
     """
 
     sysid: int
@@ -56,6 +57,14 @@ class AutopilotState:
     system_status: int = 0
     time_boot_ms: int | None = None
     boots: int = 0
+    yaw_rad: float | None = None
+    yaw_s: float | None = None
+
+    def heading_rad(self, now_s: float, timeout_s: float) -> float | None:
+        """Return the heading (rad) if heard within ``timeout_s`` of ``now_s``, else None."""
+        if self.yaw_s is None or now_s - self.yaw_s > timeout_s:
+            return None
+        return self.yaw_rad
 
     def alive(self, now_s: float, timeout_s: float) -> bool:
         """Return True when a message arrived within ``timeout_s`` before ``now_s``."""

@@ -38,7 +38,9 @@ MANUAL_CONTROL until its pilot-input failsafe (``FS_PILOT_TIMEOUT``, 3 s; 1 s wh
 the sticks, ``link.max_command_hold_s``: ``command_hold.py``); silence afterwards hands the sticks back to the
 pilot's own joystick (which also sends MANUAL_CONTROL from SYSID_MYGCS and would otherwise fight
 ours) and lets the autopilot's own failsafes act. The link never sends a non-neutral command while
-disengaged. See ``engage.py`` for when it engages and the re-engage (enable latch) policy.
+disengaged. See ``engage.py`` for when it engages and the re-engage (enable latch) policy. In guided_velocity a
+turn goes out as a heading ahead of the last ATTITUDE.yaw (``guided_from_velocity``), so after a link loss it
+ends within about ``link.max_command_hold_s`` of turning; the velocity itself ends after the firmware's fixed 3 s.
 
 Perception: a stale tick (the caller's flag, or the stamp older than ``link.perception_timeout_s``)
 disengages on that tick. To engage the first time after the operator's enable, perception must have
@@ -275,6 +277,8 @@ class VehicleLink:
             self._on_autopilot_heartbeat(msg, now)
         elif kind == "PARAM_VALUE":
             self._on_param_value(msg)
+        elif kind == "ATTITUDE":
+            self.autopilot = replace(self.autopilot, yaw_rad=float(msg.yaw), yaw_s=now)
         elif kind == "COMMAND_ACK" and msg.command == mavutil.mavlink.MAV_CMD_SET_MESSAGE_INTERVAL:
             self._requests.on_interval_ack(msg)
 
@@ -457,7 +461,8 @@ class VehicleLink:
             if self.config.output_mode == "manual_control":
                 self._send_manual_control(self._dither.sticks(cmd))
             else:
-                self._send_guided(guided_from_velocity(cmd))
+                heading = self.autopilot.heading_rad(now, self.config.autopilot_timeout_s)
+                self._send_guided(guided_from_velocity(cmd, heading, self.config.max_command_hold_s))
             return
         self._dither.reset()
         if self._perception_hold():
@@ -532,13 +537,13 @@ class VehicleLink:
             self.config.target_system, sticks.x, sticks.y, sticks.z, sticks.r, 0), self._gcs_mav)
 
     def _send_guided(self, sp: GuidedVelocity) -> None:
-        """SET_POSITION_TARGET_LOCAL_NED: body-frame velocity + yaw rate."""
+        """SET_POSITION_TARGET_LOCAL_NED: body-frame velocity + yaw rate (or heading + turn speed)."""
         c = self.config
         self._sent_setpoints = True
         self._send("SET_POSITION_TARGET_LOCAL_NED", mavlink2.MAVLink_set_position_target_local_ned_message(
             int(self.clock.now() * 1000) & 0xFFFFFFFF, c.target_system, c.target_component, sp.frame,
-            sp.type_mask, 0.0, 0.0, 0.0, sp.vx_m_s, sp.vy_m_s, sp.vz_m_s, 0.0, 0.0, 0.0, 0.0,
-            sp.yaw_rate_rad_s))
+            sp.type_mask, 0.0, 0.0, 0.0, sp.vx_m_s, sp.vy_m_s, sp.vz_m_s, 0.0, 0.0, 0.0,
+            0.0 if sp.yaw_rad is None else sp.yaw_rad, sp.yaw_rate_rad_s))
 
     def _send_ack(self, command: int, result: int, dest: tuple[int, int]) -> None:
         """COMMAND_ACK from our own identity to ``dest``."""

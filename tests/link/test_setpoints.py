@@ -8,7 +8,7 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from dip3d_vehicle.link.setpoints import (HEAVE_TABLE, NEUTRAL_STICKS, SURGE_TABLE, StickDither, SWAY_TABLE, YAW_TABLE, YAW_TABLES,
+from dip3d_vehicle.link.setpoints import (GUIDED_MIN_YAW_AHEAD_RAD, HEAVE_TABLE, NEUTRAL_STICKS, SURGE_TABLE, StickDither, SWAY_TABLE, YAW_TABLE, YAW_TABLES,
                                           ZERO_GUIDED, guided_from_velocity, manual_control_from_velocity)
 from dip3d_vehicle.servo.command import NEUTRAL, VelocityCommand
 
@@ -80,6 +80,27 @@ def test_guided_setpoint_frame_mask_and_clamp() -> None:
     assert ZERO_GUIDED.is_zero() and ZERO_GUIDED.yaw_rate_rad_s == 0.0
 
 
+def test_a_guided_turn_is_a_heading_ahead_that_ends_by_itself() -> None:
+    """ArduSub never times out a GUIDED yaw rate: with a hold time the turn is a heading |r| x hold ahead (at least
+    GUIDED_MIN_YAW_AHEAD_RAD, beyond the firmware's 5 deg angle-hold band) and the speed |r|."""
+    g = guided_from_velocity(VelocityCommand(0.2, 0.0, 0.0, -0.3), heading_rad=1.0, hold_s=1.0)
+    assert (g.type_mask, g.yaw_rad, g.yaw_rate_rad_s) == (455, pytest.approx(0.7), pytest.approx(0.3))
+    assert g.vx_m_s == pytest.approx(0.2)
+    slow = guided_from_velocity(VelocityCommand(yaw_rate_rad_s=0.02), heading_rad=0.0, hold_s=1.0)
+    assert (slow.yaw_rad, slow.yaw_rate_rad_s) == (pytest.approx(GUIDED_MIN_YAW_AHEAD_RAD), pytest.approx(0.02))
+    wrapped = guided_from_velocity(VelocityCommand(yaw_rate_rad_s=0.5), heading_rad=math.pi - 0.1, hold_s=1.0)
+    assert wrapped.yaw_rad == pytest.approx(-math.pi + 0.4)
+
+
+def test_a_guided_turn_needs_a_known_heading_and_no_turn_is_a_plain_zero_rate() -> None:
+    unknown = guided_from_velocity(VelocityCommand(0.2, 0.0, 0.0, 0.3), heading_rad=None, hold_s=1.0)
+    assert (unknown.type_mask, unknown.yaw_rate_rad_s, unknown.vx_m_s) == (1479, 0.0, pytest.approx(0.2))
+    straight = guided_from_velocity(VelocityCommand(0.2, 0.0, 0.0, 0.0), heading_rad=1.0, hold_s=1.0)
+    assert (straight.type_mask, straight.yaw_rate_rad_s, straight.yaw_rad) == (1479, 0.0, None)
+    plain = guided_from_velocity(VelocityCommand(0.0, 0.0, 0.0, -0.3), heading_rad=1.0, hold_s=0.0)
+    assert (plain.type_mask, plain.yaw_rate_rad_s) == (1479, pytest.approx(-0.3))
+
+
 def test_type_mask_matches_pymavlink_bits() -> None:
     from pymavlink import mavutil
 
@@ -89,6 +110,7 @@ def test_type_mask_matches_pymavlink_bits() -> None:
             | m.POSITION_TARGET_TYPEMASK_AY_IGNORE | m.POSITION_TARGET_TYPEMASK_AZ_IGNORE
             | m.POSITION_TARGET_TYPEMASK_YAW_IGNORE)
     assert mask == 1479 and m.MAV_FRAME_BODY_NED == 8
+    assert mask & ~m.POSITION_TARGET_TYPEMASK_YAW_IGNORE == 455
 
 
 @pytest.mark.parametrize("firmware", ["4.5", "4.7"])

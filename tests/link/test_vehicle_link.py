@@ -112,8 +112,8 @@ def test_guided_velocity_never_uses_gcs_identity(make_udp) -> None:
     assert not h.fake.of("MANUAL_CONTROL")
     assert all(r.src == (1, 191) for r in h.fake.received)
     sp = h.fake.of("SET_POSITION_TARGET_LOCAL_NED")[-1].msg
-    assert (sp.coordinate_frame, sp.type_mask) == (8, 1479)
-    assert (sp.vx, sp.yaw_rate) == (pytest.approx(0.3), pytest.approx(0.2))
+    assert (sp.coordinate_frame, sp.type_mask) == (8, 455)  # a turn is a heading ahead: it ends by itself
+    assert (sp.vx, sp.yaw, sp.yaw_rate) == (pytest.approx(0.3), pytest.approx(0.2), pytest.approx(0.2))
     lpn = [r for r in h.fake.of("COMMAND_LONG") if r.msg.command == 511 and int(r.msg.param1) == 32]
     assert lpn  # LOCAL_POSITION_NED asked for in guided
 

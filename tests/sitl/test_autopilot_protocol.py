@@ -6,6 +6,9 @@ from __future__ import annotations
 
 import pytest
 
+from dip3d_vehicle.link.setpoints import guided_from_velocity
+from dip3d_vehicle.servo.command import VelocityCommand
+from sitl.dynamics import wrap_pi
 
 from mav_client import M, command_long, send_manual
 
@@ -231,6 +234,51 @@ def test_guided_yaw_rate_does_not_time_out(lockstep_factory):
     assert ls.ap.state.r_rad_s == pytest.approx(0.3, abs=0.02)   # still turning
     ls.run(2.0, every=lambda t: _vel(c) if round(t * 100) % 10 == 0 else None)
     assert abs(ls.ap.state.r_rad_s) < 0.03                         # explicit zero stops it
+
+
+def _heading_turn(ls, c, rate):
+    """The link's GUIDED turn: a heading ahead of the vehicle's with the turn speed (setpoints.guided_from_velocity)."""
+    sp = guided_from_velocity(VelocityCommand(yaw_rate_rad_s=rate), ls.ap.state.yaw_rad, 1.0)
+    c.mav.set_position_target_local_ned_send(0, 1, 1, sp.frame, sp.type_mask, 0, 0, 0, 0, 0, 0, 0, 0, 0,
+                                             sp.yaw_rad, sp.yaw_rate_rad_s)
+
+
+def _turned(ls, seconds, every=None):
+    """Run ``seconds`` in 0.1 s steps; return the heading change, rad."""
+    turned, last = 0.0, ls.ap.state.yaw_rad
+    for _ in range(int(round(seconds * 10))):
+        ls.run(0.1, every=every)
+        turned += wrap_pi(ls.ap.state.yaw_rad - last)
+        last = ls.ap.state.yaw_rad
+    return turned
+
+
+def test_guided_heading_turn_is_turned_at_its_speed_and_ends_by_itself(lockstep_factory):
+    """As the real firmware (tests/sitl/test_firmware_guided.py): a heading more than 5 deg away is turned toward at
+    the given speed, then held; so a turn sent as a heading ahead stops within that lead once the stream stops."""
+    ls = lockstep_factory({"sim.pilot_input_failsafe": False, "sim.initial_depth_m": 3.0}, has_position=True)
+    c = _guided(ls)
+    every = lambda rate: (lambda t: _heading_turn(ls, c, rate) if round(t * 100) % 10 == 0 else None)  # noqa: E731
+    ls.run(2.0, every=every(0.3))
+    assert _turned(ls, 2.0, every(0.3)) / 2.0 == pytest.approx(0.3, abs=0.02)
+    ls.run(2.0, every=every(-0.05))
+    assert _turned(ls, 2.0, every(-0.05)) / 2.0 == pytest.approx(-0.05, abs=0.01)
+    ls.run(2.0, every=every(0.3))
+    assert 0.2 < _turned(ls, 6.0) < 0.4              # the stream stops: at most the lead (0.3 rad) further
+    assert abs(ls.ap.state.r_rad_s) < 0.02
+
+
+def test_guided_heading_is_absolute_in_body_ned_and_relative_in_body_offset_ned(lockstep_factory):
+    ls = lockstep_factory({"sim.pilot_input_failsafe": False, "sim.initial_depth_m": 3.0,
+                           "sim.initial_yaw_deg": 90.0}, has_position=True)
+    c = _guided(ls)
+    send = lambda frame: (lambda t: c.mav.set_position_target_local_ned_send(  # noqa: E731
+        0, 1, 1, frame, 455, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0.5, 0.0) if round(t * 100) % 10 == 0 else None)
+    ls.run(8.0, every=send(M.MAV_FRAME_BODY_NED))
+    assert ls.ap.state.yaw_rad == pytest.approx(0.5, abs=0.03)
+    ls.run(0.1, every=send(M.MAV_FRAME_BODY_OFFSET_NED))
+    ls.run(8.0)
+    assert ls.ap.state.yaw_rad == pytest.approx(1.0, abs=0.03)
 
 
 def test_guided_body_frame_rotates_by_yaw_and_local_ned_does_not(lockstep_factory):
