@@ -132,6 +132,8 @@ class LinkStats:
         operator_commands_denied: MAV_CMD_USER_1 from a sender that is not the ground station.
         gcs_id_withheld: MANUAL_CONTROL not sent because the ground station was lost (or never heard):
             its system id is used only while it is heard.
+        turns_withheld: GUIDED setpoints sent without their turn: no ATTITUDE heading heard within
+            ``link.autopilot_timeout_s`` (a turn is sent as a heading ahead of it).
         sent: messages sent, by type name.
     """
 
@@ -143,6 +145,7 @@ class LinkStats:
     bad_data: int = 0
     operator_commands_denied: int = 0
     gcs_id_withheld: int = 0
+    turns_withheld: int = 0
     sent: dict[str, int] = field(default_factory=dict)
 
     def count_sent(self, name: str) -> None:

@@ -54,6 +54,7 @@ failsafe disarm a vehicle that only waits for its camera (issue 11 session 61).
 from __future__ import annotations
 
 import logging
+import math
 from dataclasses import replace
 from typing import Any, Mapping
 
@@ -190,6 +191,8 @@ class VehicleLink:
                 self._send_stop()
         if self._engaged:
             self._set_engaged(False, "link closed")
+        if self.stats.turns_withheld:
+            self._event(f"{self.stats.turns_withheld} GUIDED turns withheld: no ATTITUDE heading from the autopilot")
         if self.stats.gcs_id_withheld:
             self._event(f"{self.stats.gcs_id_withheld} MANUAL_CONTROL withheld: the ground station was lost, "
                         f"its system id is used only while it is heard")
@@ -277,7 +280,7 @@ class VehicleLink:
             self._on_autopilot_heartbeat(msg, now)
         elif kind == "PARAM_VALUE":
             self._on_param_value(msg)
-        elif kind == "ATTITUDE":
+        elif kind == "ATTITUDE" and math.isfinite(msg.yaw):
             self.autopilot = replace(self.autopilot, yaw_rad=float(msg.yaw), yaw_s=now)
         elif kind == "COMMAND_ACK" and msg.command == mavutil.mavlink.MAV_CMD_SET_MESSAGE_INTERVAL:
             self._requests.on_interval_ack(msg)
@@ -461,8 +464,7 @@ class VehicleLink:
             if self.config.output_mode == "manual_control":
                 self._send_manual_control(self._dither.sticks(cmd))
             else:
-                heading = self.autopilot.heading_rad(now, self.config.autopilot_timeout_s)
-                self._send_guided(guided_from_velocity(cmd, heading, self.config.max_command_hold_s))
+                self._send_guided(self._guided_setpoint(now, cmd))
             return
         self._dither.reset()
         if self._perception_hold():
@@ -472,6 +474,18 @@ class VehicleLink:
                 self._send_stop()
             else:
                 self._stop_until_s = None
+
+    def _guided_setpoint(self, now: float, cmd: VelocityCommand) -> GuidedVelocity:
+        """``cmd`` for GUIDED, a turn as a heading ahead of the last ATTITUDE.yaw (``guided_from_velocity``). Without a
+        heading heard within ``link.autopilot_timeout_s`` a turn is withheld: counted, and warned about once."""
+        hold_s = self.config.max_command_hold_s
+        heading = self.autopilot.heading_rad(now, self.config.autopilot_timeout_s)
+        if heading is None and hold_s > 0 and math.isfinite(cmd.yaw_rate_rad_s) and cmd.yaw_rate_rad_s != 0.0:
+            self.stats.turns_withheld += 1
+            if self.stats.turns_withheld == 1:
+                self._warn(f"GUIDED turn withheld: no ATTITUDE heading from the autopilot in the last "
+                           f"{self.config.autopilot_timeout_s:g} s (a plain yaw rate would never end on a link loss)")
+        return guided_from_velocity(cmd, heading, hold_s)
 
     def _perception_hold(self) -> bool:
         """True while only perception (stale, or settling again) holds a controller that engaged on this enable: the

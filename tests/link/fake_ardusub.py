@@ -45,6 +45,7 @@ class FakeAutopilot:
     gcs_alive: bool = True
     answer_params: bool = True
     attitude_hz: float = 4.0
+    attitude_yaw_rad: float = 0.0
     boot_origin_s: float = 0.0
     received: list[Received] = field(default_factory=list)
     gcs_heartbeats_s: list[float] = field(default_factory=list)
@@ -107,7 +108,7 @@ class FakeAutopilot:
             self._next_hb = now + 1.0
         if self.alive and now >= self._next_att:
             boot_ms = int((now - self.boot_origin_s) * 1000)
-            self.send(mavlink2.MAVLink_attitude_message(boot_ms, 0, 0, 0, 0, 0, 0))
+            self.send(mavlink2.MAVLink_attitude_message(boot_ms, 0, 0, self.attitude_yaw_rad, 0, 0, 0))
             self._next_att = now + 1.0 / self.attitude_hz
         if self.gcs_alive and now >= self._next_gcs:
             self.gcs_heartbeat()

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import logging
+import math
 from pathlib import Path
 
 import pytest
@@ -116,6 +117,19 @@ def test_guided_velocity_never_uses_gcs_identity(make_udp) -> None:
     assert (sp.vx, sp.yaw, sp.yaw_rate) == (pytest.approx(0.3), pytest.approx(0.2), pytest.approx(0.2))
     lpn = [r for r in h.fake.of("COMMAND_LONG") if r.msg.command == 511 and int(r.msg.param1) == 32]
     assert lpn  # LOCAL_POSITION_NED asked for in guided
+
+
+def test_a_guided_turn_is_withheld_without_a_heading_and_said_once(make_udp, caplog) -> None:
+    """An ATTITUDE without a usable yaw (NaN: a broken estimate) gives no heading: the velocity goes out, the turn
+    does not (a plain yaw rate would never end on a link loss); counted, warned about once."""
+    h = make_udp(output_mode="guided_velocity", fake_kw={"attitude_yaw_rad": math.nan})
+    with caplog.at_level(logging.WARNING, logger="dip3d_vehicle.link"):
+        h.engage("GUIDED", MOVE)
+        h.run(1.0, MOVE)
+    sp = h.fake.of("SET_POSITION_TARGET_LOCAL_NED")[-1].msg
+    assert (sp.type_mask, sp.vx, sp.yaw_rate) == (1479, pytest.approx(0.3), 0.0)
+    assert h.link.stats.turns_withheld >= 10
+    assert caplog.text.count("GUIDED turn withheld") == 1
 
 
 # ---------------------------------------------------------------- engage gating
