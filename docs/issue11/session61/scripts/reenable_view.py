@@ -26,21 +26,22 @@ def view_at(sim, target_id: int, t_s: float) -> str:
     return f"t={row[0]:.1f} z={p[0, 2]:.2f} m px=({u:.0f},{v:.0f}) {'in view' if inside else 'OUT of view'}"
 
 
-plan = sys.argv[1]
-seeds = [int(a) for a in sys.argv[2:] if "=" not in a]
-sets = dict(a.split("=", 1) for a in sys.argv[2:] if "=" in a)
-for seed in seeds:
-    result, sim = run_faulted_mission("paper_pool", seed, plan, load_params(overrides=sets) if sets else load_params())
-    story = result.story
-    sus = next((i for i, l in enumerate(story) if "-> suspended" in l), None)
-    line = f"seed {seed} {result.outcome}"
-    if sus is not None:
-        t_sus = float(re.match(r"t=([\d.]+)", story[sus]).group(1))
-        eng = next((l for l in story[sus:] if "engaged in" in l), None)
-        said = [l for l in story[sus:] if "resum" in l or "last seen" in l or "not tracked" in l][:2]
-        line += f" | suspended {view_at(sim, result.target_id, t_sus)}"
-        if eng:
-            t_eng = float(re.match(r"t=([\d.]+)", eng).group(1))
-            line += f" | re-engaged {view_at(sim, result.target_id, t_eng)}"
-        line += " | " + " / ".join(s.split(" ", 1)[1] for s in said)
-    print(line, flush=True)
+if __name__ == "__main__":
+    plan = sys.argv[1]
+    seeds = [int(a) for a in sys.argv[2:] if "=" not in a]
+    sets = dict(a.split("=", 1) for a in sys.argv[2:] if "=" in a)
+    for seed in seeds:
+        result, sim = run_faulted_mission("paper_pool", seed, plan, load_params(overrides=sets) if sets else load_params())
+        story = result.story
+        sus = next((i for i, l in enumerate(story) if "-> suspended" in l), None)
+        line = f"seed {seed} {result.outcome}"
+        if sus is not None:
+            t_sus = float(re.match(r"t=([\d.]+)", story[sus]).group(1))
+            eng = next((l for l in story[sus:] if "engaged in" in l), None)
+            said = [l for l in story[sus:] if "resum" in l or "last seen" in l or "not tracked" in l][:2]
+            line += f" | suspended {view_at(sim, result.target_id, t_sus)}"
+            if eng:
+                t_eng = float(re.match(r"t=([\d.]+)", eng).group(1))
+                line += f" | re-engaged {view_at(sim, result.target_id, t_eng)}"
+            line += " | " + " / ".join(s.split(" ", 1)[1] for s in said)
+        print(line, flush=True)
