@@ -39,7 +39,7 @@ the sticks, ``link.max_command_hold_s``: ``command_hold.py``); silence afterward
 pilot's own joystick (which also sends MANUAL_CONTROL from SYSID_MYGCS and would otherwise fight
 ours) and lets the autopilot's own failsafes act. The link never sends a non-neutral command while
 disengaged. See ``engage.py`` for when it engages and the re-engage (enable latch) policy. In guided_velocity a
-turn goes out as a heading ahead of the last ATTITUDE.yaw (``guided_from_velocity``), so after a link loss it
+turn goes out as a heading ahead of the last ATTITUDE.yaw (``guided_turns.py``), so after a link loss it
 ends within about ``link.max_command_hold_s`` of turning; the velocity itself ends after the firmware's fixed 3 s.
 
 Perception: a stale tick (the caller's flag, or the stamp older than ``link.perception_timeout_s``)
@@ -65,11 +65,11 @@ from ..errors import LinkError
 from ..servo.command import VelocityCommand
 from .autopilot_requests import AutopilotRequests, gcs_sysid_param
 from .command_hold import CommandHold
+from .guided_turns import GuidedTurns
 from .connection import gcs_encoder, mavlink2, open_connection, url_kind
 from .engage import PERCEPTION_HOLDS, EngageInputs, decide
 from .link_config import ENGAGE_MODE_AUTO, LinkConfig
-from .setpoints import (NEUTRAL_STICKS, ZERO_GUIDED, GuidedVelocity, ManualControl,
-                        StickDither, guided_from_velocity)
+from .setpoints import NEUTRAL_STICKS, ZERO_GUIDED, GuidedVelocity, ManualControl, StickDither
 from .signing import LinkSigning, load_key
 from .state import AutopilotState, GcsState, LinkStats, mode_name
 
@@ -126,6 +126,7 @@ class VehicleLink:
         self._next_heartbeat_s = 0.0
         self._requests = AutopilotRequests(c, self._send, self._event, self._warn)
         self._hold = CommandHold(c, self._send, self._event, self._warn)  # the autopilot's FS_PILOT_TIMEOUT
+        self._turns = GuidedTurns(c, self.stats, self._warn)  # GUIDED turns as headings: they end by themselves
         self._sent_setpoints = False
         self._tcp_dead_since: float | None = None
         self._fresh_since: float | None = None
@@ -464,7 +465,8 @@ class VehicleLink:
             if self.config.output_mode == "manual_control":
                 self._send_manual_control(self._dither.sticks(cmd))
             else:
-                self._send_guided(self._guided_setpoint(now, cmd))
+                heading = self.autopilot.heading_rad(now, self.config.autopilot_timeout_s)
+                self._send_guided(self._turns.setpoint(now, cmd, heading))
             return
         self._dither.reset()
         if self._perception_hold():
@@ -474,18 +476,6 @@ class VehicleLink:
                 self._send_stop()
             else:
                 self._stop_until_s = None
-
-    def _guided_setpoint(self, now: float, cmd: VelocityCommand) -> GuidedVelocity:
-        """``cmd`` for GUIDED, a turn as a heading ahead of the last ATTITUDE.yaw (``guided_from_velocity``). Without a
-        heading heard within ``link.autopilot_timeout_s`` a turn is withheld: counted, and warned about once."""
-        hold_s = self.config.max_command_hold_s
-        heading = self.autopilot.heading_rad(now, self.config.autopilot_timeout_s)
-        if heading is None and hold_s > 0 and math.isfinite(cmd.yaw_rate_rad_s) and cmd.yaw_rate_rad_s != 0.0:
-            self.stats.turns_withheld += 1
-            if self.stats.turns_withheld == 1:
-                self._warn(f"GUIDED turn withheld: no ATTITUDE heading from the autopilot in the last "
-                           f"{self.config.autopilot_timeout_s:g} s (a plain yaw rate would never end on a link loss)")
-        return guided_from_velocity(cmd, heading, hold_s)
 
     def _perception_hold(self) -> bool:
         """True while only perception (stale, or settling again) holds a controller that engaged on this enable: the

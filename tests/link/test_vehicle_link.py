@@ -129,7 +129,20 @@ def test_a_guided_turn_is_withheld_without_a_heading_and_said_once(make_udp, cap
     sp = h.fake.of("SET_POSITION_TARGET_LOCAL_NED")[-1].msg
     assert (sp.type_mask, sp.vx, sp.yaw_rate) == (1479, pytest.approx(0.3), 0.0)
     assert h.link.stats.turns_withheld >= 10
-    assert caplog.text.count("GUIDED turn withheld") == 1
+    assert caplog.text.count("GUIDED turns withheld for 0.6 s") == 1
+
+
+def test_a_link_loss_mid_turn_is_not_called_a_missing_heading(make_udp, caplog) -> None:
+    """The heading goes stale with everything else when the autopilot falls silent: the link disengages
+    ("autopilot lost") before a missing heading is worth a warning (seen once in a GUIDED link-cut mission)."""
+    h = make_udp(output_mode="guided_velocity")
+    h.engage("GUIDED", MOVE)
+    h.run(1.0, MOVE)
+    h.fake.alive = False
+    with caplog.at_level(logging.WARNING, logger="dip3d_vehicle.link"):
+        h.run(2.0, MOVE)
+    assert not h.link.engaged and "autopilot lost" in h.link.disengage_reason
+    assert "GUIDED turns withheld" not in caplog.text
 
 
 # ---------------------------------------------------------------- engage gating
