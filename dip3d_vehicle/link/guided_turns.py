@@ -38,20 +38,24 @@ class GuidedTurns:
 
     def __init__(self, config: LinkConfig, stats: LinkStats, warn: Callable[[str], None]) -> None:
         self.config, self.stats, self._warn = config, stats, warn
-        self._withheld_since_s: float | None = None
+        self._withheld_since_s = 0.0  # the current run of withheld turns (no gap longer than the timeout)
+        self._withheld_last_s: float | None = None
         self._said = False
 
     def setpoint(self, now_s: float, cmd: VelocityCommand, heading_rad: float | None) -> GuidedVelocity:
         """The setpoint for ``cmd`` given the autopilot's heading (rad, None = none heard within the timeout)."""
-        hold_s = self.config.max_command_hold_s
+        hold_s, timeout_s = self.config.max_command_hold_s, self.config.autopilot_timeout_s
         turn = math.isfinite(cmd.yaw_rate_rad_s) and cmd.yaw_rate_rad_s != 0.0
         if heading_rad is None and hold_s > 0 and turn:
             self.stats.turns_withheld += 1
-            since = self._withheld_since_s = now_s if self._withheld_since_s is None else self._withheld_since_s
-            if now_s - since >= self.config.autopilot_timeout_s and not self._said:
+            if self._withheld_last_s is None or now_s - self._withheld_last_s > timeout_s:
+                self._withheld_since_s = now_s
+            self._withheld_last_s = now_s
+            lasted_s = now_s - self._withheld_since_s
+            if lasted_s >= timeout_s and not self._said:
                 self._said = True
-                self._warn(f"GUIDED turns withheld for {now_s - since:.1f} s: no ATTITUDE heading from the autopilot "
+                self._warn(f"GUIDED turns withheld for {lasted_s:.1f} s: no ATTITUDE heading from the autopilot "
                            f"(a plain yaw rate would never end on a link loss)")
         elif heading_rad is not None:
-            self._withheld_since_s = None
+            self._withheld_last_s = None
         return guided_from_velocity(cmd, heading_rad, hold_s)

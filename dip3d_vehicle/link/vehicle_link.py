@@ -65,9 +65,9 @@ from ..errors import LinkError
 from ..servo.command import VelocityCommand
 from .autopilot_requests import AutopilotRequests, gcs_sysid_param
 from .command_hold import CommandHold
-from .guided_turns import GuidedTurns
 from .connection import gcs_encoder, mavlink2, open_connection, url_kind
 from .engage import PERCEPTION_HOLDS, EngageInputs, decide
+from .guided_turns import GuidedTurns
 from .link_config import ENGAGE_MODE_AUTO, LinkConfig
 from .setpoints import NEUTRAL_STICKS, ZERO_GUIDED, GuidedVelocity, ManualControl, StickDither
 from .signing import LinkSigning, load_key
