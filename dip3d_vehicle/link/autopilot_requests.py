@@ -17,16 +17,28 @@ from pymavlink import mavutil
 from .connection import mavlink2
 from .link_config import LinkConfig
 
-__all__ = ["GCS_SYSID_PARAMS", "AutopilotRequests", "gcs_sysid_param"]
+__all__ = ["GCS_SYSID_PARAMS", "AutopilotRequests", "gcs_sysid_param", "param_name", "param_read"]
 
 GCS_SYSID_PARAMS = ("SYSID_MYGCS", "MAV_GCS_SYSID")  # ArduSub <= 4.6, and 4.7+
 """The autopilot parameters that hold the ground station's system id."""
 _INTERVAL_TRIES = 3
 
 
+def param_name(msg: Any) -> str:
+    """Return a PARAM_VALUE's name without its NUL padding."""
+    name = msg.param_id
+    return (name.decode(errors="replace") if isinstance(name, bytes) else str(name)).rstrip("\x00")
+
+
+def param_read(config: LinkConfig, name: str) -> Any:
+    """PARAM_REQUEST_READ of parameter ``name`` on the configured autopilot."""
+    return mavlink2.MAVLink_param_request_read_message(config.target_system, config.target_component,
+                                                       name.encode(), -1)
+
+
 def gcs_sysid_param(msg: Any) -> tuple[str, int] | None:
     """Return (name, value) of a PARAM_VALUE for SYSID_MYGCS / MAV_GCS_SYSID, or None for any other."""
-    name = msg.param_id.rstrip("\x00") if isinstance(msg.param_id, str) else msg.param_id
+    name = param_name(msg)
     if name not in GCS_SYSID_PARAMS:
         return None
     return name, int(round(msg.param_value))
@@ -108,8 +120,6 @@ class AutopilotRequests:
 
     def _request_gcs_sysid(self, now: float) -> None:
         """PARAM_REQUEST_READ for SYSID_MYGCS (and MAV_GCS_SYSID, its 4.7+ name)."""
-        c = self.config
         for name in GCS_SYSID_PARAMS:
-            self._send("PARAM_REQUEST_READ", mavlink2.MAVLink_param_request_read_message(
-                c.target_system, c.target_component, name.encode(), -1))
+            self._send("PARAM_REQUEST_READ", param_read(self.config, name))
         self._sysid_last_s = now

@@ -9,8 +9,8 @@ without an RC receiver: on the real firmware (ArduSub 4.7-dev SITL, ``tests/sitl
 ``docs/issue11/session61/scripts/override_probe.py``) a forward stick stayed in force 2.97 s with
 ``RC_OVERRIDE_TIME`` 1 s and 0.96 s with ``FS_PILOT_TIMEOUT`` 1 s. Over 40 simulated link-cut missions with the 3 s
 the vehicle ran on until the target was out of view at the operator's re-enable in 13 (12 past it), so the mission
-could not resume, and one drifted to 0.12 m from the diver's body (issue 11 session 61). The controller streams MANUAL_CONTROL at
-``link.setpoint_rate_hz`` while it holds the sticks, so 1 s is 20 missed messages. Outside that the pilot's own
+could not resume, and one drifted to 0.12 m from the diver's body (issue 11 session 61). The controller streams
+MANUAL_CONTROL at ``link.setpoint_rate_hz`` while it holds the sticks, so 1 s is 20 missed messages. Outside that the pilot's own
 setting applies: a ground station that arms without a joystick stream keeps its 3 s to hand over.
 
 Only for ``link.output_mode`` manual_control (GUIDED's velocity timeout, 3 s, is not a parameter). With
@@ -25,6 +25,7 @@ from typing import Any, Callable
 
 from pymavlink import mavutil
 
+from .autopilot_requests import param_name, param_read
 from .connection import mavlink2
 from .link_config import LinkConfig
 
@@ -36,12 +37,6 @@ SWITCH = "FS_PILOT_INPUT"
 """ArduSub's parameter: the pilot-input failsafe's action (0 off, 1 warn, 2 disarm; both centre the sticks)."""
 _RESTORE_REPEAT = 2  # PARAM_SET at close, sent twice (no answer is waited for)
 _SAME_S = 1e-3
-
-
-def _param_name(msg: Any) -> str:
-    """Return a PARAM_VALUE's name without its NUL padding."""
-    name = msg.param_id
-    return (name.decode(errors="replace") if isinstance(name, bytes) else str(name)).rstrip("\x00")
 
 
 class CommandHold:
@@ -85,7 +80,7 @@ class CommandHold:
 
     def on_param_value(self, msg: Any) -> bool:
         """Take a PARAM_VALUE; return True when it was the pilot-input timeout or switch (handled here)."""
-        name = _param_name(msg)
+        name = param_name(msg)
         if name not in (PARAM, SWITCH):
             return False
         if not self.applies:
@@ -173,10 +168,8 @@ class CommandHold:
 
     def _read(self, now: float) -> None:
         """PARAM_REQUEST_READ of the timeout and the failsafe's switch."""
-        c = self.config
         for name in (PARAM, SWITCH):
-            self._send("PARAM_REQUEST_READ", mavlink2.MAVLink_param_request_read_message(
-                c.target_system, c.target_component, name.encode(), -1))
+            self._send("PARAM_REQUEST_READ", param_read(self.config, name))
         self._last_s = now
 
     def _set(self, value_s: float) -> None:

@@ -306,7 +306,8 @@ class VehicleLink:
         self._hold.start(self.clock.now())
 
     def _on_param_value(self, msg: Any) -> None:
-        """Take the ground station's system id from SYSID_MYGCS / MAV_GCS_SYSID (the pilot-input failsafe's: ``command_hold``)."""
+        """Take the ground station's system id from SYSID_MYGCS / MAV_GCS_SYSID; the pilot-input failsafe's
+        parameters go to ``command_hold``."""
         if self._hold.on_param_value(msg):
             return
         param = gcs_sysid_param(msg)
