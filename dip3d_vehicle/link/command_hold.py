@@ -10,8 +10,8 @@ without an RC receiver: on the real firmware (ArduSub 4.7-dev SITL, ``tests/sitl
 ``RC_OVERRIDE_TIME`` 1 s and 0.96 s with ``FS_PILOT_TIMEOUT`` 1 s. Over 40 simulated link-cut missions with the 3 s
 the vehicle ran on until the target was out of view at the operator's re-enable in 13 (12 past it), so the mission
 could not resume, and one drifted to 0.12 m from the diver's body (issue 11 session 61). The controller streams
-MANUAL_CONTROL at ``link.setpoint_rate_hz`` while it holds the sticks, so 1 s is 20 missed messages. Outside that the pilot's own
-setting applies: a ground station that arms without a joystick stream keeps its 3 s to hand over.
+MANUAL_CONTROL at ``link.setpoint_rate_hz`` while it holds the sticks, so 1 s is 20 missed messages. Outside that the
+pilot's own setting applies: a ground station that arms without a joystick stream keeps its 3 s to hand over.
 
 Only for ``link.output_mode`` manual_control (GUIDED's velocity timeout, 3 s, is not a parameter). With
 ``FS_PILOT_INPUT`` 0 (failsafe off) a stale command stays until new input, which the controller can only warn about.
