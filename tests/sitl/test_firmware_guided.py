@@ -9,7 +9,8 @@ while the stream lasts and ended by itself, within the heading lead, after it st
 The firmware gets the SITL's simulated external navigation as its position source
 (sitl/ardusub_sitl.py EXTERNAL_NAV_PARAMS), so GUIDED is accepted a few seconds after boot instead of
 ~41 s with its simulated GPS (whose estimate is not usable for GUIDED at this depth). Driven in wall-clock
-time as the ground station (heartbeat, neutral joystick) and as the controller (1/191 setpoints, BODY_NED);
+time as the ground station (heartbeat, neutral joystick) and as the controller (1/191 setpoints, BODY_NED), both
+tests on one SITL (a module fixture: one boot and dive);
 speeds are the simulator's truth (SIM_STATE). Skipped with the reason when the binary is absent.
 """
 
@@ -17,7 +18,7 @@ from __future__ import annotations
 
 import math
 import time
-from typing import Any
+from typing import Any, Iterator
 
 import pytest
 from pymavlink.dialects.v20 import ardupilotmega as m2
@@ -96,7 +97,9 @@ class _Driver:
         return int(self.last["HEARTBEAT"].custom_mode)
 
 
-def test_guided_velocity_times_out_and_yaw_rate_does_not_on_the_firmware() -> None:
+@pytest.fixture(scope="module")
+def guided_sitl() -> Iterator[tuple[MavSocket, float]]:
+    """One SITL for the module's tests, dived to 1 m and in GUIDED: (its socket, the wall time GUIDED took, s)."""
     binary = firmware_binary()
     if binary is None:
         pytest.skip("no ArduSub SITL binary ($DIP3D_ARDUSUB or ../shared/ardusub-sitl/ardusub)")
@@ -105,29 +108,34 @@ def test_guided_velocity_times_out_and_yaw_rate_does_not_on_the_firmware() -> No
     sock = sitl.start()
     try:
         waited_s = pre_dive(sock, 1.0, timeout_s=60.0, guided=True)
-        assert waited_s < 30.0  # GUIDED within seconds of boot with external navigation (GPS: ~41 s)
-        d = _Driver(MavSocket(sock))
-        d.setpoint = (0.3, 0.0)
-        d.run(5.0)
-        moving = d.speed_m_s()
-        d.setpoint = None  # the controller goes quiet: the velocity must time out (3 s)
-        d.run(2.0)
-        before_timeout = d.speed_m_s()
-        d.run(4.0)
-        after_timeout = d.speed_m_s()
-        d.setpoint = (0.0, 0.3)
-        d.run(4.0)
-        turning = d.yaw_rate_rad_s()
-        d.setpoint = None  # quiet again: the yaw rate is kept
-        d.run(6.0)
-        still_turning = d.yaw_rate_rad_s()
-        d.setpoint = (0.0, 0.0)
-        d.run(3.0)
-        stopped = d.yaw_rate_rad_s()
-        mode = d.mode()
+        yield MavSocket(sock), waited_s
     finally:
         status = sitl.stop()
     assert status == 0
+
+
+def test_guided_velocity_times_out_and_yaw_rate_does_not_on_the_firmware(guided_sitl) -> None:
+    m, waited_s = guided_sitl
+    assert waited_s < 30.0  # GUIDED within seconds of boot with external navigation (GPS: ~41 s)
+    d = _Driver(m)
+    d.setpoint = (0.3, 0.0)
+    d.run(5.0)
+    moving = d.speed_m_s()
+    d.setpoint = None  # the controller goes quiet: the velocity must time out (3 s)
+    d.run(2.0)
+    before_timeout = d.speed_m_s()
+    d.run(4.0)
+    after_timeout = d.speed_m_s()
+    d.setpoint = (0.0, 0.3)
+    d.run(4.0)
+    turning = d.yaw_rate_rad_s()
+    d.setpoint = None  # quiet again: the yaw rate is kept
+    d.run(6.0)
+    still_turning = d.yaw_rate_rad_s()
+    d.setpoint = (0.0, 0.0)
+    d.run(3.0)
+    stopped = d.yaw_rate_rad_s()
+    mode = d.mode()
     assert mode == 4, d.log  # GUIDED throughout
     assert moving > 0.15 and before_timeout > 0.1, (moving, before_timeout)
     assert after_timeout < 0.08, after_timeout
@@ -147,34 +155,23 @@ def _turned_rad(d: _Driver, seconds: float) -> float:
     return turned
 
 
-def test_a_guided_heading_turn_ends_by_itself_on_the_firmware() -> None:
-    binary = firmware_binary()
-    if binary is None:
-        pytest.skip("no ArduSub SITL binary ($DIP3D_ARDUSUB or ../shared/ardusub-sitl/ardusub)")
-    sitl = ArdusubSitl(SitlOptions(binary, instance=INSTANCE + 1, extra_params=EXTERNAL_NAV_PARAMS,
-                                   extra_args=EXTERNAL_NAV_ARGS))
-    sock = sitl.start()
-    try:
-        pre_dive(sock, 1.0, timeout_s=60.0, guided=True)
-        m = MavSocket(sock)
-        m.command(m2.MAV_CMD_SET_MESSAGE_INTERVAL, float(m2.MAVLINK_MSG_ID_ATTITUDE), 1e6 / 20)
-        d = _Driver(m)
-        d.run(1.0)
-        d.turn_rad_s = 0.3
-        d.run(3.0)
-        fast = _turned_rad(d, 2.0) / 2.0
-        d.turn_rad_s = -0.05  # below the 5 deg band's reach without the least lead (tracked 0.009 rad/s)
-        d.run(3.0)
-        slow = _turned_rad(d, 2.0) / 2.0
-        d.turn_rad_s = 0.3
-        d.run(3.0)
-        d.turn_rad_s = None  # the link goes quiet mid-turn
-        after_cut = _turned_rad(d, 6.0)
-        still = d.yaw_rate_rad_s()
-        mode = d.mode()
-    finally:
-        status = sitl.stop()
-    assert status == 0
+def test_a_guided_heading_turn_ends_by_itself_on_the_firmware(guided_sitl) -> None:
+    m, _ = guided_sitl
+    m.command(m2.MAV_CMD_SET_MESSAGE_INTERVAL, float(m2.MAVLINK_MSG_ID_ATTITUDE), 1e6 / 20)
+    d = _Driver(m)
+    d.run(1.0)
+    d.turn_rad_s = 0.3
+    d.run(3.0)
+    fast = _turned_rad(d, 2.0) / 2.0
+    d.turn_rad_s = -0.05  # below the 5 deg band's reach without the least lead (tracked 0.009 rad/s)
+    d.run(3.0)
+    slow = _turned_rad(d, 2.0) / 2.0
+    d.turn_rad_s = 0.3
+    d.run(3.0)
+    d.turn_rad_s = None  # the link goes quiet mid-turn
+    after_cut = _turned_rad(d, 6.0)
+    still = d.yaw_rate_rad_s()
+    mode = d.mode()
     assert mode == 4, d.log
     assert fast == pytest.approx(0.3, abs=0.03), fast  # turns at the speed asked while the stream lasts
     assert slow == pytest.approx(-0.05, abs=0.02), slow
