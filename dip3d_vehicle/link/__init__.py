@@ -4,7 +4,10 @@ Modules: ``vehicle_link`` (the VehicleLink the mission loop calls), ``link_confi
 ``link.*`` parameters), ``autopilot_requests`` (SYSID_MYGCS reads and message intervals asked of the
 autopilot, retried), ``engage`` (pure gating), ``setpoints`` (pure VelocityCommand -> MAVLink
 mappings), ``state`` (what is known about the peers), ``connection`` (URLs, MAVLink 2, the
-ground-station encoder), ``signing`` (key files; signing and counting on a connection).
+ground-station encoder), ``signing`` (key files; signing and counting on a connection),
+``command_hold`` (the autopilot's pilot-input timeout while the controller holds the sticks),
+``guided_turns`` (GUIDED turns as headings that end by themselves), ``statustext`` (the pilot's
+messages), ``tcp_reconnect`` (the clock-paced reconnect of a ``tcp:`` link).
 """
 
 from .engage import EngageDecision, EngageInputs, blockers, decide

@@ -61,7 +61,6 @@ from typing import Any, Mapping
 from pymavlink import mavutil
 
 from ..clock import Clock
-from ..errors import LinkError
 from ..servo.command import VelocityCommand
 from .autopilot_requests import AutopilotRequests, gcs_sysid_param
 from .command_hold import CommandHold
@@ -72,6 +71,7 @@ from .link_config import ENGAGE_MODE_AUTO, LinkConfig
 from .setpoints import NEUTRAL_STICKS, ZERO_GUIDED, GuidedVelocity, ManualControl, StickDither
 from .signing import LinkSigning, load_key
 from .state import AutopilotState, GcsState, LinkStats, mode_name
+from .tcp_reconnect import TcpReconnect
 
 __all__ = ["LinkConfig", "VehicleLink", "MAV_CMD_USER_1", "ENGAGE_MODE_AUTO"]
 
@@ -128,7 +128,7 @@ class VehicleLink:
         self._hold = CommandHold(c, self._send, self._event, self._warn)  # the autopilot's FS_PILOT_TIMEOUT
         self._turns = GuidedTurns(c, self.stats, self._warn)  # GUIDED turns as headings: they end by themselves
         self._sent_setpoints = False
-        self._tcp_dead_since: float | None = None
+        self._tcp: TcpReconnect | None = None  # a tcp: link reopens itself from tick()
         self._fresh_since: float | None = None
         self._engaged_since_enable = False  # the perception settle applies until the first engagement
         self.firmware = "4.5"  # which stick tables: "4.7" once the autopilot answers MAV_GCS_SYSID
@@ -161,7 +161,8 @@ class VehicleLink:
             self._signing.key = load_key(c.signing_key_file)
         self._conn = open_connection(c.url, c.system_id, c.component_id, c.baud)
         if url_kind(c.url) == "tcp":
-            self._watch_tcp_eof(self._conn)
+            self._tcp = TcpReconnect(c, self.clock, self._signing, self._event)
+            self._tcp.watch(self._conn)
         self._signing.setup(self._conn)
         now = self.clock.now()
         self._next_heartbeat_s = now + 1.0 / c.heartbeat_rate_hz
@@ -370,7 +371,9 @@ class VehicleLink:
         if self._conn is None:
             return False
         now = self.clock.now()
-        self._maybe_reconnect_tcp(now)
+        conn = self._tcp.reconnected(now, self._conn) if self._tcp is not None else None
+        if conn is not None:
+            self._conn, self._gcs_mav = conn, None
         fresh = perception_fresh and (perception_stamp_s is None
                                       or now - perception_stamp_s <= self.config.perception_timeout_s)
         if not fresh:
@@ -553,38 +556,6 @@ class VehicleLink:
     def _send_ack(self, command: int, result: int, dest: tuple[int, int]) -> None:
         """COMMAND_ACK from our own identity to ``dest``."""
         self._send("COMMAND_ACK", mavlink2.MAVLink_command_ack_message(command, result, 0, 0, dest[0], dest[1]))
-
-    # ------------------------------------------------------------------ tcp
-
-    def _watch_tcp_eof(self, conn: Any) -> None:
-        """Replace pymavlink's print-and-block TCP reconnect by a clock-paced one in tick()."""
-        def on_closed() -> None:
-            if self._tcp_dead_since is None:
-                self._tcp_dead_since = self.clock.now()
-                self._event(f"tcp connection {self.config.url} closed by the peer")
-        conn.handle_eof = on_closed
-        conn.handle_disconnect = on_closed
-
-    def _maybe_reconnect_tcp(self, now: float) -> None:
-        """Try one reconnect every ``link.reconnect_s`` after a tcp peer closed the connection."""
-        if self._tcp_dead_since is None or now - self._tcp_dead_since < self.config.reconnect_s:
-            return
-        c = self.config
-        old = self._conn
-        try:
-            conn = open_connection(c.url, c.system_id, c.component_id, c.baud)
-        except LinkError:
-            self._tcp_dead_since = now
-            return
-        self._signing.retire(old)
-        try:
-            old.close()
-        except OSError:
-            pass
-        self._watch_tcp_eof(conn)
-        self._signing.setup(conn)
-        self._conn, self._gcs_mav, self._tcp_dead_since = conn, None, None
-        self._event(f"tcp reconnected to {c.url}")
 
     # ------------------------------------------------------------------ story
 
