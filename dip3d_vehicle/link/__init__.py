@@ -6,8 +6,8 @@ autopilot, retried), ``engage`` (pure gating), ``setpoints`` (pure VelocityComma
 mappings), ``state`` (what is known about the peers), ``connection`` (URLs, MAVLink 2, the
 ground-station encoder), ``signing`` (key files; signing and counting on a connection),
 ``command_hold`` (the autopilot's pilot-input timeout while the controller holds the sticks),
-``guided_turns`` (GUIDED turns as headings that end by themselves), ``statustext`` (the pilot's
-messages), ``tcp_reconnect`` (the clock-paced reconnect of a ``tcp:`` link).
+``guided_turns`` (GUIDED turns as headings that end by themselves), ``statustext`` (long
+STATUSTEXT split into chunks and put back together), ``tcp_reconnect`` (the clock-paced reconnect of a ``tcp:`` link).
 """
 
 from .engage import EngageDecision, EngageInputs, blockers, decide
