@@ -1,7 +1,7 @@
 """Fault campaigns: every fault of ``sitl/faults.py`` over randomised trials, the lossy-link missions, a soak.
 
     python -m sitl.fault_campaign trials  [--trials 20] [--json FILE]     # fast tier, every fault
-    python -m sitl.fault_campaign missions [--seeds 10] [--plan FILE] [--json FILE]  # full closed loop
+    python -m sitl.fault_campaign missions [--seeds 10] [--plan FILE] [--scenario S] [--json FILE]  # full loop
     python -m sitl.fault_campaign soak    [--hours 1] [--json FILE]
 
 Two tiers, because a closed-loop mission costs ~1 wall second per simulated second (SIFT on both
@@ -70,6 +70,7 @@ def main(argv: list[str] | None = None) -> int:
     m = sub.add_parser("missions")
     m.add_argument("--seeds", type=int, default=10)
     m.add_argument("--plan", default=str(FAULT_DIR / "link_loss.yaml"))
+    m.add_argument("--scenario", default="paper_pool", help="built-in scenario name or scenario file (default paper_pool)")
     add_executor_arguments(m)
     m.add_argument("--first-seed", type=int, default=0)
     s = sub.add_parser("soak")
@@ -84,7 +85,9 @@ def main(argv: list[str] | None = None) -> int:
             print(k, json.dumps(v))
         print(markdown_table(out["summary"]))
     elif args.what == "missions":
-        out = mission_campaign(args.seeds, args.plan, args.jobs, first_seed=args.first_seed, ray=args.ray)
+        _check_mission_inputs(ap, args.plan, args.scenario, args.first_seed)
+        out = mission_campaign(args.seeds, args.plan, args.jobs, first_seed=args.first_seed, ray=args.ray,
+                               scenario=args.scenario)
         print(f"reached the pointed placard {out['reached']} / {out['seeds']} (outcomes {out['outcomes']}; "
               f"arrived anywhere {out['arrived']}), crashes {out['crashes']}")
     else:
@@ -93,6 +96,19 @@ def main(argv: list[str] | None = None) -> int:
     if args.json:
         Path(args.json).write_text(json.dumps(out, indent=1, default=str))
     return 0
+
+
+def _check_mission_inputs(ap: argparse.ArgumentParser, plan: str, scenario: str, seed: int) -> None:
+    """Exit with the file and field at fault when the plan or the scenario cannot be loaded, before any run."""
+    from dip3d_vehicle.errors import ScenarioError
+
+    from .scenario import load_scenario
+
+    try:
+        load_fault_plan(plan, seed=seed)
+        load_scenario(scenario, seed)
+    except ScenarioError as exc:
+        ap.error(str(exc))
 
 
 if __name__ == "__main__":

@@ -1,7 +1,8 @@
-"""The full-loop tier's campaign: whole missions (paper_pool seeds) under a fault plan; arrivals,
-outcomes, log records written vs read back, and the safety of every fault event.
+"""The full-loop tier's campaign: whole missions (paper_pool seeds, or another scenario's) under a fault plan;
+arrivals, outcomes, log records written vs read back, and the safety of every fault event.
 
-    python -m sitl.fault_campaign missions [--seeds 10] [--plan FILE] [--first-seed 0] [--jobs N | --ray ADDRESS]
+    python -m sitl.fault_campaign missions [--seeds 10] [--plan FILE] [--scenario NAME|FILE] [--first-seed 0]
+                                           [--jobs N | --ray ADDRESS]
 """
 
 from __future__ import annotations
@@ -22,14 +23,14 @@ __all__ = ["mission_campaign"]
 
 
 def _mission_one(args: tuple) -> dict:
-    seed, plan_path, overrides = args
+    seed, plan_path, overrides, scenario = args
     with tempfile.TemporaryDirectory() as tmp:
         path = Path(tmp) / "run.mcap"
         params = load_params()
         wall0 = time.perf_counter()
         try:
             with McapRunWriter(path, None, {"command": "fault_campaign missions"}, overwrite=True) as log:
-                result, sim = run_faulted_mission("paper_pool", seed, plan_path, params, log=log, **overrides)
+                result, sim = run_faulted_mission(scenario, seed, plan_path, params, log=log, **overrides)
         except Exception as exc:  # noqa: BLE001
             return {"seed": seed, "crashed": f"{exc.__class__.__name__}: {exc}", "traceback": traceback.format_exc()[-1500:]}
         with McapRunReader(path) as reader:
@@ -59,14 +60,14 @@ def _mission_one(args: tuple) -> dict:
 
 def mission_campaign(seeds: int = 10, plan: str | Path = FAULT_DIR / "link_loss.yaml", jobs: int = 1,
                      overrides: Mapping[str, Any] | None = None, verbose: bool = True, first_seed: int = 0,
-                     ray: str | None = None) -> dict:
-    """Whole missions (paper_pool seeds first_seed.. +seeds) under a plan; arrivals and safety counters.
+                     ray: str | None = None, scenario: str = "paper_pool") -> dict:
+    """Whole missions (``scenario``'s seeds first_seed.. +seeds) under a plan; arrivals and safety counters.
 
     Runs here (``jobs`` 1), in ``jobs`` processes, or on Ray (``ray``: see sitl/parallel.py).
     """
     from .parallel import map_runs
 
-    items = [(s, str(plan), dict(overrides or {})) for s in range(first_seed, first_seed + seeds)]
+    items = [(s, str(plan), dict(overrides or {}), str(scenario)) for s in range(first_seed, first_seed + seeds)]
     runs = []
     for r in map_runs(_mission_one, items, jobs, ray):
         runs.append(r)
@@ -77,7 +78,7 @@ def mission_campaign(seeds: int = 10, plan: str | Path = FAULT_DIR / "link_loss.
     for r in runs:
         word = "crashed" if r.get("crashed") else r.get("outcome", "?")
         outcomes[word] = outcomes.get(word, 0) + 1
-    return {"plan": str(plan), "seeds": seeds, "arrived": sum(bool(r.get("arrived")) for r in runs),
+    return {"plan": str(plan), "scenario": str(scenario), "seeds": seeds, "arrived": sum(bool(r.get("arrived")) for r in runs),
             "reached": reached, "outcomes": outcomes, "crashes": sum(bool(r.get("crashed")) for r in runs),
             "runs": runs}
 
