@@ -30,6 +30,7 @@ from abc import ABC, abstractmethod
 from dataclasses import dataclass
 from typing import Callable, Mapping
 
+import cv2
 import numpy as np
 from scipy.spatial import cKDTree
 
@@ -43,7 +44,7 @@ from .pointing_fit import SHAPE_POINTS, ArmModel, _PointingFit, _rays, object_sh
 from .values import Arm3D, ArmKeypoints, Candidates, ObjectCandidate, Selection
 
 __all__ = ["PointingSelector", "PaperSelector", "DefaultSelector", "OpenSet", "image_gate", "group_objects", "make_selector",
-           "paper_distances", "on_hand"]
+           "paper_distances", "on_hand", "hidden_behind"]
 
 MAX_TILT_SIGMA_RAD = 0.25
 """Cap on the arm's tilt uncertainty (toward / away from the camera), radians: the anthropometric
@@ -262,13 +263,14 @@ class DefaultSelector(PointingSelector):
                                   np.array([o.depth_sigma_m for o in kept]), shapes[idx])
                 log_odds[idx] = self._log_odds(costs, fit.arm_cost(), kept, arm, arm3d, fit.pointing_sigma_rad,
                                                len(objects))
-        spots = self._unrecognised_log_odds(unrecognised, fit, arm, arm3d, objects, candidates, xyz_m, rig)
+        spot_xyz, spots = self._unrecognised_log_odds(unrecognised, fit, arm, arm3d, objects, candidates, xyz_m, rig)
         none_log = float(np.logaddexp.reduce(np.r_[0.0, spots]))  # "nothing detected": uniform, or a spot
         top = max(float(log_odds.max()), none_log)
         weights = np.exp(log_odds - top)
         none_weight = math.exp(none_log - top)
         total = float(weights.sum()) + none_weight
         post, p_none = weights / total, none_weight / total
+        spotted = tuple((xyz, float(math.exp(lo - top) / total)) for xyz, lo in zip(spot_xyz, spots))
         order = np.argsort(-log_odds)
         best = int(order[0])
         ranked = sorted([*log_odds.tolist(), none_log], reverse=True)
@@ -286,36 +288,42 @@ class DefaultSelector(PointingSelector):
                    "the arm points at nothing detected: every object lies outside the arm's direction in the image "
                    "or on the pointing hand")
             return Selection(None, tuple(objects), post, float(p_none), float(margin), self.method,
-                             p_none < self.min_confidence, float(p_none), why)
+                             p_none < self.min_confidence, float(p_none), why, spotted)
         confidence = mass
         return Selection(best, tuple(objects), post, confidence, float(margin), self.method,
-                         confidence < self.min_confidence, float(p_none))
+                         confidence < self.min_confidence, float(p_none), spots=spotted)
 
     def _unrecognised_log_odds(self, unrecognised: UnrecognisedSource | None, fit: _PointingFit, arm: ArmKeypoints,
                                arm3d: Arm3D, objects: list[ObjectCandidate], candidates: Candidates, xyz_m: np.ndarray,
-                               rig: StereoRig) -> np.ndarray:
-        """Return the log odds against "nothing detected" (uniform) of each unrecognised thing the arm may point at.
+                               rig: StereoRig) -> tuple[np.ndarray, np.ndarray]:
+        """Return the unrecognised things the arm may point at (K, 3; metres) and their log odds against "nothing
+        detected" (uniform), (K,).
 
         Each is a point hypothesis (the object's pointing fit with no extent of its own) with an object's
-        prior times ``unrecognised_weight``; those outside the arm's image direction are left out.
+        prior times ``unrecognised_weight``; those outside the arm's image direction are left out, and so
+        are those a recognised object hides from the diver (``hidden_behind``).
         """
+        none = (np.zeros((0, 3)), np.zeros(0))
         if unrecognised is None or self.unrecognised_weight <= 0.0:
-            return np.zeros(0)
-        blobs = unrecognised([candidates.left_px[list(o.members)] for o in objects],
-                             [xyz_m[list(o.members)] for o in objects], arm3d.xyz_m)
+            return none
+        object_points = [xyz_m[list(o.members)] for o in objects]
+        blobs = unrecognised([candidates.left_px[list(o.members)] for o in objects], object_points, arm3d.xyz_m)
         if len(blobs) == 0:
-            return np.zeros(0)
+            return none
         points = [ObjectCandidate(px, xyz, float(sig), ()) for px, xyz, sig in
                   zip(blobs.left_px, blobs.xyz_m, blobs.depth_sigma_m)]
         allowed = image_gate(arm, points, [px[None] for px in blobs.left_px], rig, arm3d, self.model, self.open_set,
                              fit.pointing_sigma_rad)
+        pointing = self.model.pointing_sigma_rad if fit.pointing_sigma_rad is None else fit.pointing_sigma_rad
+        allowed &= ~hidden_behind(blobs.xyz_m, blobs.depth_sigma_m, object_points, [o.depth_sigma_m for o in objects],
+                                  arm3d.joint("shoulder"), pointing)
         if not np.any(allowed):
-            return np.zeros(0)
+            return none
         kept = [p for p, ok in zip(points, allowed) if ok]
         costs = fit.costs(_rays(blobs.left_px[allowed], rig), blobs.xyz_m[allowed, 2], blobs.depth_sigma_m[allowed],
                           np.zeros((len(kept), SHAPE_POINTS, 3)))
-        return (self._log_odds(costs, fit.arm_cost(), kept, arm, arm3d, fit.pointing_sigma_rad, max(len(objects), 1))
-                + math.log(self.unrecognised_weight))
+        return blobs.xyz_m[allowed], (self._log_odds(costs, fit.arm_cost(), kept, arm, arm3d, fit.pointing_sigma_rad,
+                                                     max(len(objects), 1)) + math.log(self.unrecognised_weight))
 
     def _sampled_log_odds(self, fit: _PointingFit, joints_px: np.ndarray, arm3d: Arm3D,
                           objects: list[ObjectCandidate], shapes: np.ndarray, rig: StereoRig,
@@ -361,6 +369,45 @@ class DefaultSelector(PointingSelector):
         density = math.log(o.none_solid_angle_sr / (2.0 * math.pi)) - 0.5 * np.log((sigma2 + tilt ** 2) *
                                                                                  (sigma2 + across ** 2))
         return o.log_prior(n_objects or len(objects)) + density - (costs - arm_cost) / 2.0
+
+
+def hidden_behind(spots_m: np.ndarray, spot_sigma_m: np.ndarray, objects_m: list[np.ndarray],
+                  object_sigma_m: list[float], shoulder_m: np.ndarray, pointing_sigma_rad: float) -> np.ndarray:
+    """Return a bool per spot (K, 3; metres): does a recognised object lie across the line from the shoulder to it?
+
+    The line from the diver's shoulder to such a spot passes through the object's outline (the hull of its
+    features seen along the line, grown by the pointing spread at the object's distance, ``pointing_sigma_rad``
+    times it: a placard's features stop short of its edges, and the line is known no better than the pointing)
+    nearer the diver by more than twice both depth sigmas (metres): the diver pointing that way points through
+    the object first. Without this, a spot far down the pointing line (the end of a floor line 2 m behind the
+    pointed placard, the line grazing the placard's features' hull 2-5 cm off) is a point hypothesis on the arm's
+    line that fits it better than the placard's extent does, and its probability went to "nothing detected"
+    (issue 11 session 63: variant_31_00 seed 1, "nothing there" at 0.92).
+    """
+    out = np.zeros(len(spots_m), bool)
+    shoulder = np.asarray(shoulder_m, float)
+    for k, (spot, sigma) in enumerate(zip(np.asarray(spots_m, float), spot_sigma_m)):
+        line = spot - shoulder
+        length = float(np.linalg.norm(line))
+        if length < 1e-6:
+            continue
+        u = line / length
+        e1 = np.cross(u, [0.0, 1.0, 0.0] if abs(u[1]) < 0.9 else [1.0, 0.0, 0.0])
+        e1 /= np.linalg.norm(e1)
+        e2 = np.cross(u, e1)
+        for pts, osig in zip(objects_m, object_sigma_m):
+            pts = pts[np.all(np.isfinite(pts), axis=1)]
+            if len(pts) < 3:
+                continue
+            rel = pts - shoulder
+            along = float(np.median(rel @ u))
+            if along + 2.0 * math.hypot(float(sigma), float(osig)) >= length:
+                continue  # not plainly nearer the diver than the spot
+            hull = cv2.convexHull(np.c_[rel @ e1, rel @ e2].astype(np.float32))
+            if len(hull) >= 3 and cv2.pointPolygonTest(hull, (0.0, 0.0), True) >= -pointing_sigma_rad * along:
+                out[k] = True
+                break
+    return out
 
 
 def _touching(objects: list[ObjectCandidate], candidates: Candidates, xyz_m: np.ndarray, best: int, gap_m: float,

@@ -170,6 +170,9 @@ class Selection:
             open-set hypothesis of the ``default`` selector; 0 for ``paper``). ``scores`` and
             ``confidence`` are then absolute: they and ``none_probability`` sum to 1.
         reason: one line saying why nothing was chosen (empty when an object was).
+        spots: the unrecognised spots along the arm that were scored (``default``), as
+            ``(xyz_m, probability)`` pairs (camera frame, metres; absolute probability). Their
+            probabilities are part of ``none_probability``: never a target in this frame.
     """
 
     index: int | None
@@ -181,6 +184,7 @@ class Selection:
     ambiguous: bool = False
     none_probability: float = 0.0
     reason: str = ""
+    spots: tuple = ()
 
     @property
     def nothing_on_ray(self) -> bool:

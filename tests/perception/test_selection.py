@@ -384,3 +384,43 @@ def test_batched_levenberg_marquardt_minimises_each_problem_on_its_own():
     cost = _levenberg_marquardt(fun, np.full((3, 2), 5.0), 50)
     assert np.all(cost < 1e-8)
     assert set(calls) == {9}   # a point and its 2 shifts for each of the 3 problems, in one call
+
+
+def _spot_source(xyz: np.ndarray):
+    """An ``unrecognised`` source that finds one spot at ``xyz`` (metres) whatever the objects."""
+    from dip3d_vehicle.perception.blobs import Blobs
+
+    return lambda px, pts, joints: Blobs(project(xyz), np.atleast_2d(xyz), np.array([0.05]))
+
+
+def test_a_spot_down_the_pointing_line_behind_the_pointed_placard_is_not_nothing_detected():
+    """Issue 11 session 63 (variant_31_00 seed 1): a spot 2 m behind the pointed placard, on the line through it,
+    took "nothing detected" to 0.8. Hidden behind the placard it is not scored; beside it, it is."""
+    arm, u = _arm_right()
+    shoulder = np.array([-0.4, 0.0, 2.5])
+    placard = cluster(shoulder + 1.0 * u, 30, 0.12, seed=3)
+    spot = shoulder + 3.0 * u + np.array([0.0, 0.03, 0.0])
+    cands, xyz = candidates_of(placard)
+    params = load_params("default")
+    perception = Perception(RIG, params, None, detector=object())
+    arm3d = perception.triangulate_arm(arm)
+    hidden = perception.selector.select(arm, arm3d, cands, xyz, RIG, _spot_source(spot))
+    assert hidden.spots == () and hidden.index is not None and hidden.confidence > 0.8
+    aside = placard + np.array([0.0, 0.0, 0.4])             # the placard 0.4 m farther: no longer in front of the spot
+    cands, xyz = candidates_of(aside)
+    seen = perception.selector.select(arm, arm3d, cands, xyz, RIG, _spot_source(spot))
+    assert len(seen.spots) == 1 and seen.spots[0][1] > 0.05
+    assert seen.none_probability >= seen.spots[0][1]
+
+
+def test_hidden_behind_needs_the_object_across_the_line_and_plainly_nearer():
+    from dip3d_vehicle.perception.selection import hidden_behind
+
+    shoulder = np.zeros(3)
+    face = cluster(np.array([0.0, 0.0, 1.0]), 20, 0.1, seed=1)      # a 0.2 m placard 1 m ahead
+    spots = np.array([[0.0, 0.0, 3.0],      # straight behind it
+                      [0.5, 0.0, 3.0],      # the line passes 0.17 m beside it (pointing spread 0.08 m there)
+                      [0.0, 0.0, 1.1]])     # just behind it, within the depths' sigmas
+    got = hidden_behind(spots, np.array([0.05, 0.05, 0.05]), [face], [0.02], shoulder, 0.08)
+    assert got.tolist() == [True, False, False]
+    assert hidden_behind(spots, np.full(3, 0.05), [face[:2]], [0.02], shoulder, 0.08).tolist() == [False] * 3
