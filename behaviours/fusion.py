@@ -53,6 +53,7 @@ from dip3d_vehicle.perception.pipeline import PerceptionResult
 from dip3d_vehicle.perception.values import Candidates, ObjectCandidate
 
 from .evidence import Vote
+from .spot_ledger import SpotLedger
 
 __all__ = ["NONE", "SHARED_RULES", "Hypothesis", "FrameEvidence", "FusedDecision", "PointFusion", "frame_probabilities"]
 
@@ -242,8 +243,9 @@ class PointFusion:
         max_extent_m: objects of one frame whose features together span more than this across the
             line of sight (metres) are never one hypothesis (``add``; inf: any within ``radius_m`` are).
         spot_support: an unrecognised spot of a frame (``Selection.spots``, part of its "none") within
-            ``radius_m`` of a hypothesis that frame found no object on supports that hypothesis instead
-            (``_spot_support``).
+            ``radius_m`` of a hypothesis that frame found no object on supports that hypothesis instead,
+            also back in the earlier frames of a hypothesis first seen late (``_spot_support``,
+            ``_back_support``; with ``recall_s`` those frames are "none"'s anyway: not back).
 
     Raises:
         ValueError: an unknown ``shared_rule``.
@@ -268,14 +270,17 @@ class PointFusion:
     none_led: int = 0
     frames: list[FrameEvidence] = field(default_factory=list)
     held_arm: HeldArm = field(default_factory=lambda: HeldArm(1))
+    spots: SpotLedger | None = None
 
     def __post_init__(self) -> None:
         if self.shared_rule not in SHARED_RULES:
             raise ValueError(f"PointFusion shared_rule {self.shared_rule!r}: expected one of {', '.join(SHARED_RULES)}")
+        self.spots = SpotLedger(self.radius_m)
 
     def reset(self) -> None:
         """Forget every frame (a new point, or a new viewpoint)."""
         self.hypotheses, self.none_log_sum, self.none_led, self.frames = [], 0.0, 0, []
+        self.spots.clear()
         self.direction = None
         self.shared_error = self.pose_error = False
         self.held_arm.clear()
@@ -378,6 +383,7 @@ class PointFusion:
             if h is None:
                 h = Hypothesis(f"o{len(self.hypotheses) + 1}", xyz.copy(), 0.0, self._unseen_log_sum(floor))
                 self.hypotheses.append(h)
+                self._back_support(h)
             w = max(p, 1e-6)
             h.xyz_m = (h.weight * h.xyz_m + w * xyz) / (h.weight + w)
             h.weight += w
@@ -385,7 +391,8 @@ class PointFusion:
                 h.obj, h.candidates, h.stamp_s = obj, result.candidates, stamp_s
             _pool(h, obj, result.candidates)
             seen[h.key] = seen.get(h.key, 0.0) + p
-        p_none -= self._spot_support(result, seen, either)
+        moved, unclaimed = self._spot_support(result, seen, either)
+        p_none -= moved
         for h in self.hypotheses:
             support = seen.get(h.key, 0.0) + either.get(h.key, 0.0)
             h.log_sum += self._log(support) if h.key in seen or h.key in either else floor
@@ -397,34 +404,61 @@ class PointFusion:
         if leader == NONE and p_none < max(either.values(), default=0.0):
             leader = None  # "one of these" outweighs "none": no one led the frame
         part = {k: part.get(k, 0.0) + either.get(k, 0.0) for k in {**part, **either}}
-        if leader == NONE:
-            self.none_led += 1
-        elif leader is not None:
-            next(h for h in self.hypotheses if h.key == leader).led += 1
+        if leader is not None:
+            self._count_led(leader, +1)
         ev = FrameEvidence(stamp_s, result.status if arm_frames < 2 else f"{result.status}/arm{arm_frames}", part)
         self.frames.append(ev)
+        self.spots.record(unclaimed, p_none, leader)
         return ev
 
-    def _spot_support(self, result: PerceptionResult, seen: dict, either: dict) -> float:
-        """Move each unrecognised spot's probability from "none" to the hypothesis it lies on; return the sum moved.
+    def _spot_support(self, result: PerceptionResult, seen: dict, either: dict) -> tuple[float, list]:
+        """Move each unrecognised spot's probability from "none" to the hypothesis it lies on; return the sum moved
+        and the spots left to "none".
 
         Only onto a hypothesis (within ``radius_m``) this frame found no object on: there the spot is the
         object seen a feature or two short of being recognised. A faint far placard recognised in some frames
         of a point shows as spots on its face in the others, which voted "nothing detected" (0.8-1.0 each):
-        "none" won over the placard the arm pointed at (issue 11 session 63: variant_31_07 seeds 0 and 2,
-        session 58: variant_27_05 seed 2, variant_27_13 seed 1). ``seen`` gains the support (no sighting).
+        "none" won over the placard the arm pointed at (issue 11 session 63: variant_31_07 seed 2, variant_31_05
+        seed 1). ``seen`` gains the support (no sighting: the tracker's model is unchanged).
         """
         sel = result.selection
         if not self.spot_support or sel is None or not sel.spots:
-            return 0.0
-        found, moved = set(seen) | set(either), 0.0
-        for xyz, p in sel.spots:
-            h = self.match(np.asarray(xyz, float))
-            if h is None or h.key in found or p <= 0.0:
-                continue
-            seen[h.key] = seen.get(h.key, 0.0) + float(p)
-            moved += float(p)
-        return moved
+            return 0.0, []
+        support, rest = self.spots.claim(sel.spots, self.match, set(seen) | set(either))
+        for key, p in support.items():
+            seen[key] = seen.get(key, 0.0) + p
+        return float(sum(support.values())), rest
+
+    def _back_support(self, h: Hypothesis) -> None:
+        """Give a hypothesis first seen now the earlier frames' unclaimed spots on it, taken from their "none".
+
+        Each such frame's part in ``h.log_sum`` becomes its spots' probability instead of the floor, "none"'s
+        loses it, and the frame's leader is recounted (the part kept for the story changes with them). Without
+        it, a 4 cm target first recognised after the close in started from the floor in every earlier frame
+        while its spots there, now given to it in the later frames, no longer held "none" up: the decoy won
+        (issue 11 session 63: near_miss seed 3, fused 0.95 at one look 0.59).
+        """
+        if not self.spot_support or self.recall_s > 0.0:
+            return
+        floor = self._log(0.0)
+        for j, p in self.spots.claim_back(h.xyz_m):
+            frame, part = self.spots.frames[j], self.frames[j].probabilities
+            h.log_sum += self._log(p) - floor
+            self.none_log_sum += self._log(frame.none_p - p) - self._log(frame.none_p)
+            frame.none_p -= p
+            part[h.key], part[NONE] = p, frame.none_p
+            leader = max(part, key=part.get)
+            if frame.leader is not None and leader != frame.leader:
+                self._count_led(frame.leader, -1)
+                self._count_led(leader, +1)
+                frame.leader = leader
+
+    def _count_led(self, key: str, step: int) -> None:
+        """Add ``step`` to the frames led by the hypothesis ``key`` ("none" included)."""
+        if key == NONE:
+            self.none_led += step
+        else:
+            self.hypothesis(key).led += step
 
     def _unseen_log_sum(self, floor: float) -> float:
         """Return a new hypothesis' log sum over the frames before its first sighting.
