@@ -11,7 +11,7 @@ from .pipeline import PerceptionResult
 __all__ = ["annotate"]
 
 GREEN, WHITE, RED, YELLOW, CYAN = (0, 255, 0), (255, 255, 255), (0, 0, 255), (0, 255, 255), (255, 255, 0)
-MAGENTA, ORANGE = (255, 0, 255), (0, 165, 255)
+MAGENTA, ORANGE, GREY = (255, 0, 255), (0, 165, 255), (150, 150, 150)
 
 
 def _project(rig: StereoRig, xyz_m: np.ndarray) -> np.ndarray:
@@ -42,7 +42,9 @@ def annotate(left: np.ndarray, result: PerceptionResult, rig: StereoRig, extensi
     corridor searched for small, faint objects (when given); white: all candidates (objects for
     the default selector, each with its absolute probability; matched features for the paper's);
     red: the chosen target; orange: "nothing detected along the ray" when that won, and (rings) the
-    unrecognised spots found along the corridor outside every object; yellow/cyan: shoulder, elbow,
+    unrecognised spots found along the corridor outside every object that the selector scored, with their
+    probability (part of "nothing detected"); grey rings: spots it did not score (outside the arm's
+    image direction, or hidden from the diver by a recognised object); yellow/cyan: shoulder, elbow,
     wrist and the arm.
     """
     img = left.copy()
@@ -60,11 +62,16 @@ def annotate(left: np.ndarray, result: PerceptionResult, rig: StereoRig, extensi
         line = line[line[:, 2] > 0.05]
         if len(line) > 1:
             cv2.polylines(img, [np.round(_project(rig, line)).astype(np.int32)], False, GREEN, 2 * scale)
-    for p in rig.to_original(result.unrecognised.left_px, "left") if len(result.unrecognised) else ():
-        cv2.circle(img, _pt(p), 9 * scale, ORANGE, scale)  # a spot along the corridor no object explains
     sel = result.selection
+    font = cv2.FONT_HERSHEY_SIMPLEX
+    spots = result.unrecognised
+    for p, xyz in zip(rig.to_original(spots.left_px, "left"), spots.xyz_m) if len(spots) else ():
+        q = sel.spot_probability(xyz) if sel is not None else None  # a spot along the corridor no object explains
+        cv2.circle(img, _pt(p), 9 * scale, ORANGE if q is not None else GREY, scale)
+        if q is not None:
+            cv2.putText(img, f"{q:.2f}", (_pt(p)[0] + 10 * scale, _pt(p)[1] - 6 * scale), font, 0.4 * scale, ORANGE,
+                        scale)
     if sel is not None:
-        font = cv2.FONT_HERSHEY_SIMPLEX
         for i, obj in enumerate(sel.objects):
             p = _pt(rig.to_original(obj.left_px, "left")[0])
             cv2.circle(img, p, 4 * scale, WHITE, -1)

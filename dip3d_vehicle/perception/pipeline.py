@@ -91,7 +91,9 @@ class PerceptionResult:
                    "none_probability": _num(sel.none_probability)},
                "timings_ms": {k: round(v, 2) for k, v in self.timings_ms.items()},
                "candidates_followed": self.candidates_followed,
-               "unrecognised": [{"left_px": _r(rig.to_original(px, "left")[0]), "xyz_m": _r(xyz, 4)}
+               "unrecognised": [{"left_px": _r(rig.to_original(px, "left")[0]), "xyz_m": _r(xyz, 4),
+                                 "probability": None if sel is None or (q := sel.spot_probability(xyz)) is None
+                                 else _num(q)}
                                 for px, xyz in zip(self.unrecognised.left_px, self.unrecognised.xyz_m)]}
         return out
 

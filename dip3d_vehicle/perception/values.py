@@ -195,3 +195,8 @@ class Selection:
     def target(self) -> ObjectCandidate | None:
         """Return the chosen object, or None."""
         return None if self.index is None else self.objects[self.index]
+
+    def spot_probability(self, xyz_m) -> float | None:
+        """Return the probability the selector gave the unrecognised spot at ``xyz_m`` (metres), or None when it
+        did not score it (outside the arm's image direction, or hidden from the diver by a recognised object)."""
+        return next((p for xyz, p in self.spots if np.allclose(xyz, xyz_m, atol=1e-9)), None)

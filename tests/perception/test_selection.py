@@ -424,3 +424,31 @@ def test_hidden_behind_needs_the_object_across_the_line_and_plainly_nearer():
     got = hidden_behind(spots, np.array([0.05, 0.05, 0.05]), [face], [0.02], shoulder, 0.08)
     assert got.tolist() == [True, False, False]
     assert hidden_behind(spots, np.full(3, 0.05), [face[:2]], [0.02], shoulder, 0.08).tolist() == [False] * 3
+
+
+def test_json_and_annotation_say_which_unrecognised_spots_were_scored():
+    """``perceive --json`` gives each unrecognised spot the probability the selector gave it (null: not scored,
+    here hidden behind the pointed placard); ``--annotate`` rings a scored spot orange, the other grey."""
+    from dip3d_vehicle.perception.annotate import GREY, ORANGE, annotate
+    from dip3d_vehicle.perception.blobs import Blobs
+    from dip3d_vehicle.perception.pipeline import PerceptionResult
+
+    arm, u = _arm_right()
+    shoulder = np.array([-0.4, 0.0, 2.5])
+    hidden = shoulder + 2.0 * u + np.array([0.0, 0.03, 0.0])
+    seen = shoulder + 0.8 * u + np.array([0.0, 0.02, 0.0])    # in front of the placard: nothing hides it
+    placard = cluster(shoulder + 1.0 * u, 30, 0.12, seed=3)
+    cands, xyz = candidates_of(placard)
+    perception = Perception(RIG, load_params("default"), None, detector=object())
+    arm3d = perception.triangulate_arm(arm)
+    spots = np.vstack([hidden, seen])
+    both = Blobs(project(spots), spots, np.array([0.05, 0.05]))
+    sel = perception.selector.select(arm, arm3d, cands, xyz, RIG, lambda px, pts, joints: both)
+    result = PerceptionResult("ok", "", arm, arm3d, cands, xyz, sel, unrecognised=both)
+    probs = [s["probability"] for s in result.to_json(RIG)["unrecognised"]]
+    scored = [p is not None for p in probs]
+    assert len(sel.spots) == sum(scored) >= 1 and not all(scored)
+    img = annotate(np.zeros((1200, 1600, 3), np.uint8), result, RIG)
+    for (x, y), ok in zip(RIG.to_original(project(spots), "left"), scored):
+        ring = img[int(round(y)) - 12:int(round(y)) + 13, int(round(x)) - 12:int(round(x)) + 13].reshape(-1, 3)
+        assert any(tuple(int(c) for c in px) == (ORANGE if ok else GREY) for px in ring)
