@@ -102,7 +102,7 @@ class BehaviourConfig:
     fusion_max_effective_frames: float = 4.0
     fusion_arm_frames: int = 4
     fusion_recall_s: float = 0.0
-    fusion_spot_support: bool = True
+    fusion_spot_support: bool = False
     fusion_min_shared_posterior: float = 0.5
     fusion_shared_rule: str = "always"
     fusion_min_pose_shared_posterior: float = 0.5
