@@ -403,8 +403,11 @@ def hidden_behind(spots_m: np.ndarray, spot_sigma_m: np.ndarray, objects_m: list
             along = float(np.median(rel @ u))
             if along + 2.0 * math.hypot(float(sigma), float(osig)) >= length:
                 continue  # not plainly nearer the diver than the spot
-            hull = cv2.convexHull(np.c_[rel @ e1, rel @ e2].astype(np.float32))
-            if len(hull) >= 3 and cv2.pointPolygonTest(hull, (0.0, 0.0), True) >= -pointing_sigma_rad * along:
+            flat, grow = np.c_[rel @ e1, rel @ e2], pointing_sigma_rad * along
+            if np.any(flat.min(axis=0) > grow) or np.any(flat.max(axis=0) < -grow):
+                continue  # the line passes outside even the box round the outline
+            hull = cv2.convexHull(flat.astype(np.float32))
+            if len(hull) >= 3 and cv2.pointPolygonTest(hull, (0.0, 0.0), True) >= -grow:
                 out[k] = True
                 break
     return out
