@@ -408,7 +408,8 @@ class PointFusion:
             self._count_led(leader, +1)
         ev = FrameEvidence(stamp_s, result.status if arm_frames < 2 else f"{result.status}/arm{arm_frames}", part)
         self.frames.append(ev)
-        self.spots.record(unclaimed, p_none, leader)
+        if self.spot_support:  # the ledger is read only by the back support
+            self.spots.record(unclaimed, p_none, leader)
         return ev
 
     def _spot_support(self, result: PerceptionResult, seen: dict, either: dict) -> tuple[float, list]:
