@@ -24,7 +24,6 @@ Benchmark: ``python -m sitl.render --bench [--scenario NAME]``.
 from __future__ import annotations
 
 import argparse
-import math
 import time
 from concurrent.futures import ThreadPoolExecutor
 from typing import Any, Mapping
