@@ -66,11 +66,11 @@ def annotate(left: np.ndarray, result: PerceptionResult, rig: StereoRig, extensi
     font = cv2.FONT_HERSHEY_SIMPLEX
     spots = result.unrecognised
     for p, xyz in zip(rig.to_original(spots.left_px, "left"), spots.xyz_m) if len(spots) else ():
-        q = sel.spot_probability(xyz) if sel is not None else None  # a spot along the corridor no object explains
-        cv2.circle(img, _pt(p), 9 * scale, ORANGE if q is not None else GREY, scale)
+        at = _pt(p)  # a spot along the corridor no object explains
+        q = sel.spot_probability(xyz) if sel is not None else None
+        cv2.circle(img, at, 9 * scale, ORANGE if q is not None else GREY, scale)
         if q is not None:
-            cv2.putText(img, f"{q:.2f}", (_pt(p)[0] + 10 * scale, _pt(p)[1] - 6 * scale), font, 0.4 * scale, ORANGE,
-                        scale)
+            cv2.putText(img, f"{q:.2f}", (at[0] + 10 * scale, at[1] - 6 * scale), font, 0.4 * scale, ORANGE, scale)
     if sel is not None:
         for i, obj in enumerate(sel.objects):
             p = _pt(rig.to_original(obj.left_px, "left")[0])
