@@ -386,11 +386,18 @@ def test_batched_levenberg_marquardt_minimises_each_problem_on_its_own():
     assert set(calls) == {9}   # a point and its 2 shifts for each of the 3 problems, in one call
 
 
-def _spot_source(xyz: np.ndarray):
-    """An ``unrecognised`` source that finds one spot at ``xyz`` (metres) whatever the objects."""
+def _spots_at(xyz: np.ndarray):
+    """Unrecognised spots at ``xyz`` (metres; one point or (N, 3)), each with a 0.05 m depth sigma."""
     from dip3d_vehicle.perception.blobs import Blobs
 
-    return lambda px, pts, joints: Blobs(project(xyz), np.atleast_2d(xyz), np.array([0.05]))
+    xyz = np.atleast_2d(xyz)
+    return Blobs(project(xyz), xyz, np.full(len(xyz), 0.05))
+
+
+def _spot_source(xyz: np.ndarray):
+    """An ``unrecognised`` source that finds spots at ``xyz`` (metres) whatever the objects."""
+    spots = _spots_at(xyz)
+    return lambda px, pts, joints: spots
 
 
 def test_a_spot_down_the_pointing_line_behind_the_pointed_placard_is_not_nothing_detected():
@@ -430,7 +437,6 @@ def test_json_and_annotation_say_which_unrecognised_spots_were_scored():
     """``perceive --json`` gives each unrecognised spot the probability the selector gave it (null: not scored,
     here hidden behind the pointed placard); ``--annotate`` rings a scored spot orange, the other grey."""
     from dip3d_vehicle.perception.annotate import GREY, ORANGE, annotate
-    from dip3d_vehicle.perception.blobs import Blobs
     from dip3d_vehicle.perception.pipeline import PerceptionResult
 
     arm, u = _arm_right()
@@ -442,9 +448,8 @@ def test_json_and_annotation_say_which_unrecognised_spots_were_scored():
     perception = Perception(RIG, load_params("default"), None, detector=object())
     arm3d = perception.triangulate_arm(arm)
     spots = np.vstack([hidden, seen])
-    both = Blobs(project(spots), spots, np.array([0.05, 0.05]))
-    sel = perception.selector.select(arm, arm3d, cands, xyz, RIG, lambda px, pts, joints: both)
-    result = PerceptionResult("ok", "", arm, arm3d, cands, xyz, sel, unrecognised=both)
+    sel = perception.selector.select(arm, arm3d, cands, xyz, RIG, _spot_source(spots))
+    result = PerceptionResult("ok", "", arm, arm3d, cands, xyz, sel, unrecognised=_spots_at(spots))
     probs = [s["probability"] for s in result.to_json(RIG)["unrecognised"]]
     scored = [p is not None for p in probs]
     assert len(sel.spots) == sum(scored) >= 1 and not all(scored)
