@@ -37,6 +37,7 @@ class Acknowledge(MissionState):
         self.ack = Acknowledgement(bb.config)
         self.ack.start(bb.now_s)
         self.start_xyz = None if bb.tracker.xyz_m is None else bb.tracker.xyz_m.copy()
+        bb.ack_pending = True
         bb.say(f"acknowledging with {bb.config.ack_kind}")
 
     def tick(self, bb: Blackboard) -> str | None:
@@ -46,6 +47,7 @@ class Acknowledge(MissionState):
         bb.outbox.extend(servos)
         if finished and self.start_xyz is not None:  # the nod ends at the heading it began at
             bb.tracker.rewind(self.start_xyz, bb.now_s)
+        bb.ack_pending = not finished
         return "acked" if finished else None
 
     def exit(self, bb: Blackboard) -> None:

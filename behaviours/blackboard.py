@@ -205,7 +205,8 @@ class Blackboard:
     toward a far diver and how many this point has had); ``weak_lean`` (a weak decision's winner
     carried across the move made before acting on it, ``weak_lean.py``; None: none); ``held_short_m`` (how much
     longer than ``standoff_m`` the approach to the chosen target holds off, m: the way round the other objects and the
-    diver held short, ``clearance.py``; 0 until then).
+    diver held short, ``clearance.py``; 0 until then); ``ack_pending`` (an acknowledgement began and has not played to
+    its end: a suspension cut it short, and resuming acknowledges again).
     """
 
     config: BehaviourConfig
@@ -233,6 +234,7 @@ class Blackboard:
     target: TrackedTarget | None = None
     errors: ServoErrors | None = None
     held_short_m: float = 0.0
+    ack_pending: bool = False
     arrived: bool = False
     arrivals: int = 0
     outbox: list = field(default_factory=list)

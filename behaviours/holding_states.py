@@ -95,13 +95,14 @@ class Suspended(MissionState):
     Entered only for disengage reasons that clear the operator's enable, so the link engages again
     only after a new enable; this state also checks that it saw the enable cleared, and never
     resumes otherwise. On re-engage: the target seen within ``behaviour.lost_grace_s`` and the
-    suspension no longer than ``behaviour.resume_within_s`` -> ``resume`` (servo); else ``expired``
-    (wait_for_diver). Not re-engaged within ``behaviour.resume_within_s`` -> ``disengage`` (idle,
+    suspension no longer than ``behaviour.resume_within_s`` -> ``resume`` (servo), or ``reacknowledge``
+    (the whole acknowledgement again) when the suspension cut it short (``bb.ack_pending``); else
+    ``expired`` (wait_for_diver). Not re-engaged within ``behaviour.resume_within_s`` -> ``disengage`` (idle,
     the target forgotten).
     """
 
     name = "suspended"
-    triggers = ("resume", "expired", "disengage")
+    triggers = ("resume", "reacknowledge", "expired", "disengage")
     needs = "track"
 
     def enter(self, bb: Blackboard) -> None:
@@ -132,8 +133,11 @@ class Suspended(MissionState):
             ago = "never" if seen is None else f"{bb.now_s - seen:.1f} s ago"
             bb.say(f"re-engaged after {away:.1f} s, target last seen {ago}: waiting for the diver")
             return "expired"
-        bb.say("target tracked: resuming the servo", pilot=True)
         bb.say(f"re-engaged after {away:.1f} s, target seen {bb.now_s - seen:.1f} s ago")
+        if bb.ack_pending:
+            bb.say("target tracked: acknowledging it again", pilot=True)
+            return "reacknowledge"
+        bb.say("target tracked: resuming the servo", pilot=True)
         return "resume"
 
 

@@ -9,8 +9,9 @@ Read the whole mission here::
     select_target --ambiguous--> confirm_point
     servo/arrive --lost--> lost_target --reacquired--> servo; arrive --drifted--> servo
     servo/arrive/lost_target --give_up--> abort --reset--> wait_for_diver
-    servo/arrive/lost_target --suspend--> suspended      (autopilot / ground station lost, pilot took over)
+    acknowledge/servo/arrive/lost_target --suspend--> suspended      (autopilot / ground station lost, pilot took over)
     suspended --resume--> servo      (re-engaged after the operator's re-enable, target still tracked and fresh)
+    suspended --reacknowledge--> acknowledge      (the same, but suspended before the acknowledgement finished)
     suspended --expired--> wait_for_diver      (re-engaged, but the target is lost or too much time passed)
     every state but idle --disengage--> idle    (the link stopped commanding: operator disable, other causes)
     select_target --nothing_there--> nothing_there --released--> wait_for_diver   (shake, STATUSTEXT, no motion)
@@ -71,8 +72,9 @@ TRANSITIONS: list[dict] = [
     {"trigger": "held", "source": "arrive", "dest": "done"},
     {"trigger": "released", "source": ["done", "nothing_there"], "dest": "wait_for_diver"},
     {"trigger": "reset", "source": "abort", "dest": "wait_for_diver"},
-    {"trigger": "suspend", "source": ["servo", "lost_target", "arrive"], "dest": "suspended"},
+    {"trigger": "suspend", "source": ["acknowledge", "servo", "lost_target", "arrive"], "dest": "suspended"},
     {"trigger": "resume", "source": "suspended", "dest": "servo"},
+    {"trigger": "reacknowledge", "source": "suspended", "dest": "acknowledge"},
     {"trigger": "expired", "source": "suspended", "dest": "wait_for_diver"},
     {"trigger": "disengage", "source": [s for s in STATES if s != "idle"], "dest": "idle"},
     {"trigger": "stop_gesture", "source": [s for s in STATES if s not in ("idle", "stopped")], "dest": "stopped"},
@@ -89,8 +91,10 @@ GCS_QUIET = "ground station quiet"
 """The link's hold 1 s before it declares the ground station lost (so its neutral sticks still carry
 the GCS id): it suspends the mission like the loss that follows, without clearing the enable."""
 
-SUSPENDABLE: tuple[str, ...] = ("servo", "lost_target", "arrive")
-"""States with a chosen target that a suspend reason suspends instead of ending the mission."""
+SUSPENDABLE: tuple[str, ...] = ("acknowledge", "servo", "lost_target", "arrive")
+"""States with a chosen target that a suspend reason suspends instead of ending the mission (acknowledge since
+issue 11 session 64: a link cut during the nod ended the mission, and the diver, who had seen the nod begin, had
+lowered the arm by the re-enable, so the decision was lost)."""
 
 
 class Mission:

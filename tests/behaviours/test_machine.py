@@ -370,6 +370,38 @@ def test_re_engaged_after_the_re_enable_with_the_target_tracked_resumes_the_serv
     assert m.bb.command is not None and not m.bb.command.is_neutral()  # servoing to the kept target again
 
 
+def test_a_loss_during_the_acknowledgement_suspends_and_the_re_enable_acknowledges_again(rig):
+    """A link cut during the nod kept the decision only if the diver still pointed at the re-enable (issue 11 session
+    63's ``cut_acknowledge`` probe: 1/5 reached, the mission ended in idle): it suspends instead, and resuming plays
+    the whole acknowledgement again before the servo."""
+    m, frame = _servoing(rig, **{"behaviour.resume_within_s": 30.0})
+    enter(m, "acknowledge")
+    _, total_s = ack_schedule(m.bb.config)
+    assert _tick_at(m, 0.4, frame) is None and m.bb.command is not None  # mid-nod: yawing
+    assert _lose_link(m, 0.5) == "suspend" and m.state == "suspended" and m.bb.command is None
+    for k in range(1, 20):
+        _tick_at(m, 0.5 + 0.2 * k, frame)
+    _reenable(m)
+    assert _tick_at(m, 4.5, frame) == "reacknowledge" and m.state == "acknowledge"
+    assert any("acknowledging it again" in line for line in m.bb.story)
+    fired = [_tick_at(m, 4.5 + 0.1 * k, frame) for k in range(1, int(total_s / 0.1) + 3)]
+    assert fired.count("acked") == 1 and m.state in ("servo", "arrive")
+    assert fired.index("acked") >= int(total_s / 0.1) - 1  # the whole nod again, not its remainder
+    # a suspension after the acknowledgement ended resumes the servo straight away
+    enter(m, "servo")
+    _lose_link(m, 6.0 + total_s)
+    _reenable(m)
+    assert _tick_at(m, 6.2 + total_s, frame) == "resume" and m.state == "servo"
+
+
+def test_a_disable_during_the_acknowledgement_ends_the_mission(rig):
+    """Only the enable-clearing losses suspend; the operator's own disable ends the mission, as in every state."""
+    m, frame = _servoing(rig)
+    enter(m, "acknowledge")
+    m.bb.engaged, m.bb.hold_reason = False, "not enabled by the operator"
+    assert _tick_at(m, 0.3, frame) == "disengage" and m.state == "idle" and m.bb.command is None
+
+
 def test_re_engaged_with_the_target_lost_goes_back_to_wait_for_diver_and_says_so(rig):
     m, frame = _servoing(rig, **{"behaviour.track_lost_frames": 3})
     _lose_link(m, 0.1)
