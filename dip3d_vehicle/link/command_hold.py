@@ -1,6 +1,7 @@
 """How long the autopilot keeps acting on the controller's last MANUAL_CONTROL once the link goes quiet: ArduSub's
 pilot-input failsafe, ``FS_PILOT_TIMEOUT`` (0.1-3 s, 3 s by default). The link reads it and, while the controller
-holds the sticks (engaged, or streaming neutral through a perception hold), lowers it to ``link.max_command_hold_s``;
+holds the sticks (engaged, or streaming neutral through a perception hold), lowers it to ``link.max_command_hold_s``
+(once its own stream has run ``STREAM_SETTLE_S``);
 when the controller hands the sticks back, and at close, it puts the autopilot's own value back.
 
 A cut link leaves ArduSub driving on the last sticks it received until that failsafe centres them ("Lost manual
@@ -29,12 +30,18 @@ from .autopilot_requests import param_name, param_read
 from .connection import mavlink2
 from .link_config import LinkConfig
 
-__all__ = ["PARAM", "SWITCH", "CommandHold"]
+__all__ = ["PARAM", "SWITCH", "STREAM_SETTLE_S", "CommandHold"]
 
 PARAM = "FS_PILOT_TIMEOUT"
 """ArduSub's parameter: seconds without pilot input (MANUAL_CONTROL) before its pilot-input failsafe acts."""
 SWITCH = "FS_PILOT_INPUT"
 """ArduSub's parameter: the pilot-input failsafe's action (0 off, 1 warn, 2 disarm; both centre the sticks)."""
+STREAM_SETTLE_S = 0.5
+"""The timeout is lowered only once the controller has held the sticks this long, s (10 MANUAL_CONTROL at 20 Hz):
+the autopilot applies a new timeout at once against its last pilot input, so a lower one that arrives before the
+controller's stream does ends a hand-over with "Lost manual control" (a disarm) whenever the pilot armed more than the
+new timeout earlier without a joystick stream (issue 11 session 64: a lossy, reordering link put the PARAM_SET ahead
+of the first MANUAL_CONTROL in 3 of 10 ``lossy_out_of_order`` missions, disarmed at the engage)."""
 _RESTORE_REPEAT = 2  # PARAM_SET at close, sent twice (no answer is waited for)
 _SAME_S = 1e-3
 
@@ -66,6 +73,7 @@ class CommandHold:
         self._first_s: float | None = None
         self._last_s = -1e9
         self._given_up = False
+        self._holding_since_s: float | None = None  # when the controller took the sticks (None: not holding)
 
     @property
     def applies(self) -> bool:
@@ -130,14 +138,19 @@ class CommandHold:
         return limit if holding and self.original_s > limit + _SAME_S else self.original_s
 
     def update(self, now: float, holding: bool) -> None:
-        """Ask for the wanted value (``holding``: the controller holds the sticks) until the autopilot reports it;
-        re-read an unanswered read every ``link.param_retry_s``; warn once after ``param_give_up_s``."""
+        """Ask for the wanted value (``holding``: the controller holds the sticks; the limit once it has for
+        ``STREAM_SETTLE_S``) until the autopilot reports it; re-read an unanswered read every ``link.param_retry_s``;
+        warn once after ``param_give_up_s``."""
         if not self.applies:
             return
+        if not holding:
+            self._holding_since_s = None
+        elif self._holding_since_s is None:
+            self._holding_since_s = now
         if self.value_s is None:
             self._retry_read(now)
             return
-        want = self.wanted_s(holding)
+        want = self.wanted_s(holding and now - self._holding_since_s >= STREAM_SETTLE_S - 1e-9)
         if want is None or abs(want - self.value_s) < _SAME_S or now - self._last_s < self.config.param_retry_s:
             return
         if want not in self._asked:

@@ -13,6 +13,7 @@ from dip3d_vehicle.clock import SimClock
 from dip3d_vehicle.config import load_params
 from dip3d_vehicle.errors import LinkError
 from dip3d_vehicle.link import VehicleLink
+from dip3d_vehicle.link.command_hold import STREAM_SETTLE_S
 from dip3d_vehicle.link.link_config import LinkConfig
 from dip3d_vehicle.servo.command import VelocityCommand
 from sitl.autopilot import Autopilot
@@ -103,6 +104,27 @@ def test_lowered_while_engaged_and_put_back_when_the_sticks_are_handed_back(pair
     assert not p.link.engaged and p.timeout_s() == 3.0
     p.close()
     assert p.timeout_s() == 3.0 and not p.said("put back")
+
+
+def test_lowered_only_after_the_stream_reached_the_autopilot(pair_factory):
+    """Armed 1.5 s before the hand-over, no joystick stream: a 1 s timeout that arrived ahead of the controller's first
+    MANUAL_CONTROL would disarm at once ("Lost manual control"; issue 11 session 64, a reordering link). The PARAM_SET
+    goes out only after ``STREAM_SETTLE_S`` of the stream."""
+    p = pair_factory()
+    p.run(1.5, fresh=False)
+    assert p.ap.set_mode(2) and p.ap.arm(True)
+    armed_s = p.clock.now()
+    p.run(1.5, fresh=False)  # the pilot armed, then waited 1.5 s before the enable
+    p.link.enable("test")
+    while not p.link.engaged:
+        p.run(0.02)
+    handed_s = p.clock.now()
+    p.run(STREAM_SETTLE_S - 0.1)
+    assert p.timeout_s() == 3.0 and p.link.stats.sent.get("PARAM_SET", 0) == 0
+    assert min(t for t, _ in p.sticks) < handed_s + 0.05  # the stream began at the hand-over
+    p.run(0.5, FORWARD)
+    assert p.timeout_s() == pytest.approx(1.0)
+    assert p.ap.armed and not p.ap.events_of("failsafe") and handed_s - armed_s > 1.0
 
 
 def test_put_back_at_close(pair_factory):
