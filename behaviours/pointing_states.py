@@ -22,7 +22,7 @@ from .evidence import VoteBox, angular_spread_rad, image_direction
 from .fusion import NONE, FrameEvidence, FusedDecision, Hypothesis, PointFusion
 from .mission_state import MissionState, arm_raised, new_result
 from .second_look import LookStep, plan_second_look
-from .weak_lean import WeakLean, is_weak
+from .weak_lean import WeakLean, is_weak, two_view_p
 
 __all__ = ["WaitForDiver", "ConfirmPoint", "SelectTarget", "SecondLook", "CloseIn"]
 
@@ -330,7 +330,8 @@ class SelectTarget(_ArmWatch):
         step = self.weak_look_step(bb, decision)
         if step is None:
             return None
-        bb.look_step, bb.weak_lean = step, WeakLean.of(decision)
+        positions = {k: h.xyz_m for k in decision.one_look_posterior if (h := bb.fusion.hypothesis(k)) is not None}
+        bb.look_step, bb.weak_lean = step, WeakLean.of(decision, positions)
         bb.say(f"{decision.best} only {decision.one_look:.2f} counted as one look (< {c.close_in_weak_one_look:g}): "
                f"a second look before deciding", "notice", pilot=True)
         return "second_look"
@@ -349,30 +350,37 @@ class SelectTarget(_ArmWatch):
         return self.separating_step(bb, decision.best, others[0], -math.inf) if others else None
 
     def views_disagree(self, bb: Blackboard, decision: FusedDecision) -> bool:
-        """True when a weak winner is not the weak winner seen before the last move (said once per state).
+        """True when the winner is not the weak winner seen before the last move and does not outweigh it (said once
+        per state): a weak winner, or a clear one below ``behaviour.close_in_weak_one_look`` against the lean with
+        the two views taken as two looks (``two_view_p``).
 
         The same: the hypothesis the fusion matches to where that winner should be seen from here (the
         nearest within ``behaviour.vote_radius_m``).
         """
         c, lean = bb.config, bb.weak_lean
-        if not c.weak_look_again or lean is None or not lean.moves:
-            return False
-        if not is_weak(decision, c.close_in_weak_one_look):
+        if not c.weak_look_again or lean is None or not lean.moves or decision.kind != "object":
             return False
         same = bb.fusion.match(lean.xyz_m)
+        weak = is_weak(decision, c.close_in_weak_one_look)
         if same is not None and same.key == decision.best:
-            bb.say(f"{same.key} leads again from the new view ({decision.one_look:.2f} counted as one look), "
-                   f"{float(np.linalg.norm(same.xyz_m - lean.xyz_m)):.2f} m from where {lean.key} was expected: "
-                   f"the two views agree")
+            if weak:
+                bb.say(f"{same.key} leads again from the new view ({decision.one_look:.2f} counted as one look), "
+                       f"{float(np.linalg.norm(same.xyz_m - lean.xyz_m)):.2f} m from where {lean.key} was expected: "
+                       f"the two views agree")
+            return False
+        post = decision.one_look_posterior
+        both = two_view_p(decision.one_look, post.get(same.key if same is not None else NONE, 0.0),
+                          lean.p_at(decision.winner.xyz_m, c.vote_radius_m), lean.one_look)
+        if not weak and both >= c.close_in_weak_one_look:
             return False
         if not self.disagreed:
             self.disagreed = True
             moves = " and ".join(m.replace("_", " ") for m in lean.moves)
             where = (f"{same.key} from here" if same is not None
                      else f"no object within {c.vote_radius_m:g} m of where it should be seen")
-            bb.say(f"{decision.best} leads only {decision.one_look:.2f} counted as one look after the {moves}; "
-                   f"before it {lean.key} led ({lean.one_look:.2f}), {where}: the two views disagree, not acting",
-                   "notice", pilot=True)
+            bb.say(f"{decision.best} leads {decision.one_look:.2f} counted as one look after the {moves}, {both:.2f} "
+                   f"with the view before it, where {lean.key} led ({lean.one_look:.2f}), {where}: the two views "
+                   f"disagree, not acting", "notice", pilot=True)
         return True
 
     def look_step(self, bb: Blackboard, decision: FusedDecision) -> LookStep | None:

@@ -325,10 +325,28 @@ def test_a_weak_decision_whose_second_view_leans_elsewhere_is_not_acted_on(rig):
     texts = [o.text for o in m.bb.outbox if isinstance(o, StatusText)]
     assert 1 <= sum("the two views disagree" in t for t in texts) <= 2  # once per select_target
     assert any("before and after the move lean to different objects" in t for t in texts)
-    clear = _frame(shoulder=NEAR_SHOULDER, scores=(0.1, 0.85), none_p=0.05, moved_m=moved)  # clear: acted on
+    narrow = _frame(shoulder=NEAR_SHOULDER, scores=(0.28, 0.66), none_p=0.06, moved_m=moved)
+    enter(m, "select_target")  # clear from here (one look >= 0.6), but not against the lean before: not acted on
+    fired = feed(m, [narrow] * 12 + [None], t0=m.bb.now_s)
+    assert "winner" not in fired and m.bb.decision.kind == "object" and m.bb.decision.one_look >= 0.6
+    assert any("with the view before it" in t for t in m.bb.story)
+    clear = _frame(shoulder=NEAR_SHOULDER, scores=(0.05, 0.93), none_p=0.02, moved_m=moved)  # outweighs it: acted on
     enter(m, "select_target")
-    assert "winner" in feed(m, [clear] * 12 + [None], t0=m.bb.now_s)
+    assert "winner" in feed(m, [clear] * 40 + [None], t0=m.bb.now_s)
     assert m.bb.chosen.xyz_m == pytest.approx(np.array([0.45, 0.1, 3.0]) - moved)
+
+
+def test_two_views_as_two_looks():
+    """variant_34_05 seed 2 (issue 11 session 64): the lean 0.52 on the pointed placard, the second view 0.61 on the
+    one beside it (0.3 on the lean's): together they do not outweigh the lean."""
+    from behaviours.weak_lean import WeakLean, two_view_p
+    assert two_view_p(0.61, 0.3, 0.35, 0.52) == pytest.approx(0.2135 / (0.2135 + 0.156))
+    assert two_view_p(0.9, 0.05, 0.3, 0.6) > 0.8 and two_view_p(0.0, 0.0, 0.5, 0.5) == 0.0
+    lean = WeakLean("o1", np.array([0.5, 0.0, 3.0]), 0.52, others=((np.array([1.0, 0.0, 3.0]), 0.35),), none_p=0.1)
+    there = lean.moved((0.4, 0.0, 0.0), "second_look")
+    assert there.xyz_m == pytest.approx([0.1, 0.0, 3.0]) and there.moves == ("second_look",)
+    assert there.p_at(np.array([0.62, 0.0, 3.0]), 0.3) == pytest.approx(0.35)  # the other object, moved likewise
+    assert there.p_at(np.array([1.0, 0.0, 3.0]), 0.3) == pytest.approx(0.1)  # not seen before: "nothing detected"
 
 
 def test_a_weak_lean_is_forgotten_with_a_new_point_and_off_by_parameter(rig):
