@@ -2,7 +2,7 @@
 the diver's arm to come down, the hold time, the operator's re-enable).
 
 Idle before a mission, done after arriving, abort after giving up, suspended while the link stopped
-commanding during the approach, nothing_there after a point at nothing, stopped after the diver's
+commanding during the acknowledgement or the approach, nothing_there after a point at nothing, stopped after the diver's
 stop gesture.
 """
 
@@ -88,8 +88,8 @@ class Abort(MissionState):
 
 
 class Suspended(MissionState):
-    """The link stopped commanding during the approach (autopilot or ground station lost, the pilot took
-    over): no motion, the target kept and tracked; when the link engages again, re-check and resume or
+    """The link stopped commanding during the acknowledgement or the approach (autopilot or ground station lost,
+    the pilot took over): no motion, the target kept and tracked; when the link engages again, re-check and resume or
     start again.
 
     Entered only for disengage reasons that clear the operator's enable, so the link engages again
