@@ -116,8 +116,11 @@ def test_lowered_only_after_the_stream_reached_the_autopilot(pair_factory):
     armed_s = p.clock.now()
     p.run(1.5, fresh=False)  # the pilot armed, then waited 1.5 s before the enable
     p.link.enable("test")
-    while not p.link.engaged:
+    for _ in range(100):  # engaged within 2 s (the perception settle)
+        if p.link.engaged:
+            break
         p.run(0.02)
+    assert p.link.engaged, p.link.not_engaged_reason
     handed_s = p.clock.now()
     p.run(STREAM_SETTLE_S - 0.1)
     assert p.timeout_s() == 3.0 and p.link.stats.sent.get("PARAM_SET", 0) == 0
