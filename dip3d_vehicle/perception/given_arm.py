@@ -13,7 +13,8 @@ import math
 
 import numpy as np
 
-from .joint_stereo import HEAD_PATCHES_M, head_match, head_stand_in, joint_disparities, limb_switches, matched_on_body
+from .joint_stereo import (HEAD_PATCHES_M, head_match, head_stand_in, joint_disparities, limb_switches, matched_on_body,
+                           on_background)
 from .shoulder_model import head_torso_shoulder, mirrored_shoulder_px, side_log_odds, two_way
 from .values import ArmKeypoints
 
@@ -100,7 +101,8 @@ def match_arm(arm: ArmKeypoints, left: np.ndarray, right: np.ndarray, sign: int,
     surface: the match moves back by ``SHOULDER_SURFACE_M``). A shoulder whose flat patch does not
     match takes the given head's match instead (``head_stand_in``). The wrist's match holds the hand beyond it
     and moves back toward the shoulder's disparity by ``WRIST_HAND_SHARE`` of their difference (the shoulder's
-    own match, else its given disparity). An elbow / wrist matched
+    own match, else its given disparity). A wrist whose background beside the forearm matches at its disparity as
+    well is set aside (``on_background``: its patch shows a placard behind or in front of it). An elbow / wrist matched
     on the body behind it is set aside (``matched_on_body``; the body's depth from the head, else
     the shoulder's match). A match
     within ``MATCH_GROSS_SIGMAS`` of the given disparity (sigma ``given_sigma_px``) is combined with
@@ -121,6 +123,7 @@ def match_arm(arm: ArmKeypoints, left: np.ndarray, right: np.ndarray, sign: int,
     if not math.isfinite(body) or sign * body <= 0.5:
         return arm
     found = joint_disparities(left, right, arm.left_px, body, sign, focal_px, baseline_m, patch_m=patch_m)
+    found = on_background(found, left, right, arm.left_px, body, sign, focal_px, baseline_m, patch_m)
     match_sigma = found.floored_sigma_px(floor_px)
     fb = focal_px * baseline_m
     if found.matched[2]:   # the hand beyond the wrist, along the arm

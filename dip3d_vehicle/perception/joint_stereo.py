@@ -364,6 +364,9 @@ def on_background(found: JointDisparity, left: np.ndarray, right: np.ndarray, le
     (``docs/issue14/session31/scripts/wrist_census.py``, frames whose joints lie within 25 px of the truth): of
     the matches more than 2.5 px off, 208 of 300 are set aside on the nine built-ins (seeds 0-9) and session 18's
     seed-9 variants (seeds 0-1), 14 of 34 on the seed-10 variants, never tuned on; of the rest, 2.7 % and 0.9 %.
+    The same holds for a placard in front of the wrist, which a given (the simulator's truth) wrist does not hide
+    behind: ``given_arm.match_arm`` probes too (issue 11 session 65, ``variant_35_07`` seed 2, the wrist matched
+    0.5 m toward the camera on the placard's face, the vehicle sent to that placard).
     The elbow is not probed: beside it lies the torso, near its depth (the rule would set aside 15 % of its right
     matches, and 68 of 365 off).
     """

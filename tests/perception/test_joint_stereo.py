@@ -25,6 +25,28 @@ def _pair(disparity_px: float):
     return left, right
 
 
+def _arm_over_water(xy, disparity_px: int, shape: tuple[int, int] = (200, 400), seed: int = 4,
+                    half_px: float = 12.0, hand_px: float = 15.0):
+    """Return a pair: a textured arm (a band ``half_px`` wide along shoulder, elbow, wrist and the hand beyond it) at
+    one disparity, over flat water (nothing beside the forearm to match, as ``on_background`` probes)."""
+    h, w = shape
+    rng = np.random.default_rng(seed)
+    texture = np.repeat(np.repeat((rng.random((h // 4 + 1, w // 4 + 1, 3)) * 255).astype(np.uint8), 4, 0), 4, 1)[:h, :w]
+    xy = np.asarray(xy, float)
+    along = (xy[2] - xy[1]) / np.linalg.norm(xy[2] - xy[1])
+    points = [xy[0], xy[1], xy[2], xy[2] + hand_px * along]
+    yy, xx = np.mgrid[:h, :w].astype(float)
+    arm = np.zeros((h, w), bool)
+    for a, b in zip(points[:-1], points[1:]):
+        ab = b - a
+        t = np.clip(((xx - a[0]) * ab[0] + (yy - a[1]) * ab[1]) / float(ab @ ab), 0.0, 1.0)
+        arm |= np.hypot(xx - a[0] - t * ab[0], yy - a[1] - t * ab[1]) <= half_px
+    left = np.where(arm[..., None], texture, np.uint8(90))
+    right = np.full_like(left, 90)
+    right[:, :w - disparity_px] = left[:, disparity_px:]
+    return left, right
+
+
 def test_recovers_the_disparity_from_a_wrong_guess():
     left, right = _pair(37)
     left_xy = np.array([[200.0, 100.0], [250.0, 60.0], [300.0, 150.0]])
@@ -181,10 +203,14 @@ def _prerectified(width: int, height: int, f: float = 920.0, baseline_m: float =
     return StereoRig.from_rectified(p1, p2, (width, height))
 
 
+_ARM_XY = np.array([[200.0, 100.0], [250.0, 60.0], [300.0, 120.0]])
+"""``_noisy_arm``'s joints in the left image (pixels) before noise."""
+
+
 def _noisy_arm(disparity_px: float, rng, sigma_px: float = 2.0):
     from dip3d_vehicle.perception.values import ArmKeypoints
 
-    left = np.array([[200.0, 100.0], [250.0, 60.0], [300.0, 120.0]])
+    left = _ARM_XY.copy()
     right = left - [disparity_px, 0.0]
     return ArmKeypoints("right", left + rng.normal(0, sigma_px, (3, 2)), right + rng.normal(0, sigma_px, (3, 2)),
                         np.ones(3), np.ones(3), "test")
@@ -194,7 +220,7 @@ def test_match_arm_measures_each_joints_disparity_and_its_own_sigma():
     from dip3d_vehicle.perception.given_arm import SHOULDER_MATCH_SIGMA_M, SHOULDER_SURFACE_M, match_arm
     from dip3d_vehicle.perception.joint_stereo import JOINT_FLOOR_FACTOR
 
-    left, right = _pair(37)
+    left, right = _arm_over_water(_ARM_XY, 37)
     rng = np.random.default_rng(0)
     fb = 920.0 * 0.12
     shoulder = fb / (fb / 37.0 + SHOULDER_SURFACE_M)       # the joint behind the matched surface: 36.6 px
@@ -296,10 +322,31 @@ def test_match_arm_drops_a_wrist_matched_on_the_textured_object_behind_it():
     out = match_arm(arm, left, right, 1, 920.0, 0.12, 0.5, 2.0, principal_px=centre, limbs_m=limbs)
     assert out.disparity_matched.tolist() == [True, True, False]
     assert np.array_equal(out.right_px[2], arm.right_px[2]) and np.isnan(out.disparity_sigma_px[2])
-    plain = np.zeros_like(left)                                # no placard behind the wrist: every match stays
-    plain[:, :540] = left[:, 60:]
-    assert match_arm(arm, left, plain, 1, 920.0, 0.12, 0.5, 2.0, principal_px=centre,
+    water_l, water_r = _arm_over_water(xy, 60, shape=(200, 600))   # no placard behind the wrist: every match stays
+    assert match_arm(arm, water_l, water_r, 1, 920.0, 0.12, 0.5, 2.0, principal_px=centre,
                      limbs_m=limbs).disparity_matched.all()
+
+
+def test_match_arm_sets_aside_a_wrist_whose_patch_and_both_sides_show_a_placard_in_front_of_it():
+    """The simulator's truth wrist at a placard nearer than the arm (no occlusion in the truth pose): its patch is the
+    placard's, and so is the background beside the forearm; the wrist keeps its given disparity (issue 11 session 65,
+    ``variant_35_07`` seed 2: the arm triangulated toward the camera, the vehicle sent to that placard)."""
+    from dip3d_vehicle.perception.given_arm import match_arm
+    from dip3d_vehicle.perception.joint_stereo import joint_disparities
+    from dip3d_vehicle.perception.values import ArmKeypoints
+
+    xy = np.array([[150.0, 100.0], [295.0, 70.0], [440.0, 100.0]])
+    left, right = _arm_over_water(xy, 60, shape=(200, 600))   # the arm at 60 px (1.84 m; 1 m is 500 px)
+    rng = np.random.default_rng(9)
+    placard = np.repeat(np.repeat((rng.random((25, 25, 3)) * 255).astype(np.uint8), 4, 0), 4, 1)   # 100 x 100 px
+    left[50:150, 390:490] = placard                            # 0.2 m across, at 70 px (1.58 m), over the wrist
+    right[50:150, 320:420] = placard
+    arm = ArmKeypoints("right", xy, xy - [[60.0, 0.0], [60.0, 0.0], [66.0, 0.0]], np.ones(3), np.ones(3), "test")
+    out = match_arm(arm, left, right, 1, 920.0, 0.12, floor_px=0.5, given_sigma_px=2.0)
+    assert out.disparity_matched.tolist() == [True, True, False]
+    assert np.array_equal(out.right_px[2], arm.right_px[2]) and np.isnan(out.disparity_sigma_px[2])
+    found = joint_disparities(left, right, xy, 60.0, 1, 920.0, 0.12, patch_m=0.06)
+    assert found.matched[2] and abs(found.disparity_px[2] - 70.0) < 0.5       # the placard's: 4 px off the given
 
 
 def test_limb_switches_makes_the_fewest_switches_that_leave_every_limb_plausible():
@@ -328,11 +375,8 @@ def test_match_arm_takes_a_wrist_match_the_gross_check_set_aside_when_the_given_
     from dip3d_vehicle.perception.given_arm import match_arm
     from dip3d_vehicle.perception.values import ArmKeypoints
 
-    rng = np.random.default_rng(4)
-    left = (rng.random((50, 150, 3)) * 255).astype(np.uint8).repeat(4, 0).repeat(4, 1)     # 200 x 600
-    right = np.zeros_like(left)
-    right[:, :540] = left[:, 60:]                              # the whole arm at 60 px (1.84 m)
     xy = np.array([[150.0, 100.0], [295.0, 70.0], [440.0, 100.0]])
+    left, right = _arm_over_water(xy, 60, shape=(200, 600))   # the whole arm at 60 px (1.84 m)
     arm = ArmKeypoints("right", xy, xy - [[60.0, 0.0], [60.0, 0.0], [45.0, 0.0]], np.ones(3), np.ones(3), "test")
     limbs, centre = ((0.27, 0.37), (0.22, 0.29)), (300.0, 100.0)
     plain = match_arm(arm, left, right, 1, 920.0, 0.12, floor_px=0.5, given_sigma_px=2.0)
@@ -355,6 +399,7 @@ def test_match_arm_sets_aside_a_foreshortened_joint_matched_on_the_body_behind_i
     assert np.array_equal(out.right_px[1:], arm.right_px[1:])
     bent = replace(arm, left_px=np.array([[200.0, 100.0], [250.0, 60.0], [300.0, 120.0]]))   # a bent arm is not short
     bent = replace(bent, right_px=bent.left_px - [[37.0, 0.0], [38.0, 0.0], [38.0, 0.0]])
+    left, right = _arm_over_water(bent.left_px, 37)           # over water: nothing behind it
     assert match_arm(bent, left, right, 1, 920.0, 0.12, 1.0, 2.0).disparity_matched.all()
 
 
@@ -407,7 +452,7 @@ def test_a_matched_joints_sigma_is_used_as_it_is_and_unset_keeps_the_keypoints()
     from dip3d_vehicle.perception.keypoints_file import GivenKeypoints
     from dip3d_vehicle.perception.pipeline import Perception
 
-    left, right = _pair(37)
+    left, right = _arm_over_water(_ARM_XY, 37)
     rig = _prerectified(400, 200)
     arm = _noisy_arm(37.0, np.random.default_rng(2))
     keypoints = {"rectified": True, "left": dict(zip(("shoulder", "elbow", "wrist"), arm.left_px.tolist())),
