@@ -291,13 +291,13 @@ class SelectTarget(_ArmWatch):
     def weak_close_in_step(self, bb: Blackboard, decision: FusedDecision) -> CloseInStep | None:
         """Return the advance to make before acting on a weak object decision at range, or None (act on it).
 
-        Weak: its posterior with the frames counted as one is below ``behaviour.close_in_weak_one_look``,
+        Weak at range: its posterior with the frames counted as one is below ``behaviour.close_in_one_look``,
         with the diver farther than ``behaviour.decide_max_range_m``; such a lean rests on the arm's
         tilt toward the camera, whose stereo error falls with the square of the range. An advance that
         cuts that error by less than ``behaviour.close_in_weak_min_error_cut`` is not worth the delay.
         """
         c = bb.config
-        if not is_weak(decision, c.close_in_weak_one_look):
+        if not is_weak(decision, c.close_in_one_look):
             return None
         step = self.close_in_step(bb)
         if step is None:
@@ -308,7 +308,7 @@ class SelectTarget(_ArmWatch):
                    f"{step.distance_m:.2f} m would cut the arm's depth error by {cut:.0%} only: not closing in")
             return None
         bb.say(f"{decision.best} only {decision.one_look:.2f} counted as one look "
-               f"(< {c.close_in_weak_one_look:g}): closer before deciding", "notice", pilot=True)
+               f"(< {c.close_in_one_look:g}): closer before deciding", "notice", pilot=True)
         return step
 
     def move_before_weak(self, bb: Blackboard, decision: FusedDecision) -> str | None:

@@ -252,7 +252,8 @@ def test_a_weak_decision_at_range_closes_in_first_and_a_clear_or_near_one_decide
     assert "winner" in fired  # tries used up: the same lean from the new view decides
     assert m.bb.weak_lean is None and m.bb.second_looks == 0  # the nearer view was the extra one: no second look
     for shoulder, over in (((-0.4, -0.3, 2.2), {"behaviour.weak_look_again": False}),
-                           ((-0.5, -0.3, 3.2), {"behaviour.close_in_weak_one_look": 0.0})):
+                           ((-0.5, -0.3, 3.2), {"behaviour.close_in_weak_one_look": 0.0,
+                                                "behaviour.close_in_one_look": 0.0})):
         m = _close_inengaged_mission(rig, **{"behaviour.select_timeout_s": 30.0, **over})
         enter(m, "select_target")
         fired = feed(m, [_frame(shoulder=shoulder, **weak)] * 12 + [None])
@@ -261,6 +262,21 @@ def test_a_weak_decision_at_range_closes_in_first_and_a_clear_or_near_one_decide
     enter(m, "select_target")
     fired = feed(m, [_frame(shoulder=(-0.5, -0.3, 3.2), scores=(0.8, 0.05), none_p=0.1)] * 12 + [None])
     assert "winner" in fired and "close_in" not in fired  # clear counted as one: decided at once
+
+
+def test_a_lean_clear_enough_to_act_on_near_closes_in_first_at_range(rig):
+    """variant_37_13 seed 0 (issue 11 session 65, held out): the diver at 3.3 m, a lean of 0.68 counted as one look
+    on the wrong placard. Over ``behaviour.close_in_weak_one_look`` (no second look near), under
+    ``behaviour.close_in_one_look``: at range the vehicle closes in first; near it decides; with the bar at the weak
+    one (session 64) it decides at range too."""
+    lean = dict(scores=(0.66, 0.14), none_p=0.2)
+    for shoulder, bar, expected in (((-0.5, -0.3, 3.2), 0.7, "close_in"), ((-0.4, -0.3, 2.2), 0.7, "winner"),
+                                    ((-0.5, -0.3, 3.2), 0.6, "winner")):
+        m = _close_inengaged_mission(rig, **{"behaviour.select_timeout_s": 30.0, "behaviour.close_in_one_look": bar})
+        enter(m, "select_target")
+        fired = feed(m, [_frame(shoulder=shoulder, **lean)] * 12 + [None])
+        assert expected in fired and not ({"winner", "close_in", "second_look"} - {expected}) & set(fired)
+        assert 0.6 <= m.bb.decision.one_look < 0.7
 
 
 def test_a_weak_decision_is_not_delayed_for_an_advance_too_short_to_settle_the_tilt(rig):
