@@ -314,8 +314,9 @@ class SelectTarget(_ArmWatch):
     def move_before_weak(self, bb: Blackboard, decision: FusedDecision) -> str | None:
         """Return the move to make before acting on a weak object decision ("close_in", "second_look"), or None.
 
-        A weak decision gets one extra view per point. A nearer one (close in) decides on its own: the
-        arm's depth error is smaller there. A second look is taken from as far: the weak winner is kept on
+        A weak decision gets one extra view per point. A nearer one (close in; at range the bar is the higher
+        ``behaviour.close_in_one_look``) decides on its own: the arm's depth error is smaller there. A second look
+        (under ``behaviour.close_in_weak_one_look``) is taken from as far: the weak winner is kept on
         the blackboard (``bb.weak_lean``) and the new view must agree with it (``views_disagree``).
         """
         c = bb.config
