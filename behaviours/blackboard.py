@@ -122,7 +122,7 @@ class BehaviourConfig:
     close_in_max_descent_m: float = 0.0
     close_in_weak_one_look: float = 0.6
     close_in_one_look: float = 0.7
-    close_in_weak_min_error_cut: float = 0.33
+    close_in_weak_min_error_cut: float = 0.25
     weak_look_again: bool = True
     shake_yaw_rate_rad_s: float = 0.35
     shake_swing_s: float = 0.4
