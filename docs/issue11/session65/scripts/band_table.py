@@ -2,18 +2,11 @@
 campaign before (docs/issue11/session*/campaigns, the onbg folder of this session included): outcome, closed in,
 arrival time; then the totals.
     python docs/issue11/session65/scripts/band_table.py PAIRS DIR [DIR ...]"""
-import glob, json, os, statistics, sys
+import json, os, statistics, sys
 
-before = {}
-for f in sorted(glob.glob("docs/issue11/session*/campaigns/**/default_variant_*.txt", recursive=True)):
-    if "/final/band" in f or "/final/fragile" in f:
-        continue
-    name, session = os.path.basename(f)[8:-4], int(f.split("/")[2][7:])
-    for line in open(f):
-        if line.startswith('{"seed"'):
-            d = json.loads(line)
-            if (name, d["seed"]) not in before or session >= before[(name, d["seed"])][0]:
-                before[(name, d["seed"])] = (session, d)
+from latest_runs import latest_runs
+
+before = latest_runs(skip=("/final/band", "/final/fragile"))
 tot_b, tot_a, closed, extra = {}, {}, 0, []
 for line in open(sys.argv[1]):
     name, seed = line.split()[:2]
@@ -24,7 +17,7 @@ for line in open(sys.argv[1]):
             now = next((json.loads(l) for l in open(f) if l.startswith('{"seed')), None)
     if now is None:
         continue
-    b = before[(name, int(seed))][1]
+    b = before[(name, int(seed))]
     tot_b[b["outcome"]] = tot_b.get(b["outcome"], 0) + 1
     tot_a[now["outcome"]] = tot_a.get(now["outcome"], 0) + 1
     moved = "close_in" in now["states"]

@@ -3,17 +3,12 @@ session's band (campaigns/final/band*) where it has them, else the latest earlie
     python docs/issue11/session65/scripts/cut_table.py PAIRS DIR [DIR ...]"""
 import glob, json, os, sys
 
+from latest_runs import latest_runs
+
 def first(path):
     return next((json.loads(l) for l in open(path) if l.startswith('{"seed')), None)
 
-latest = {}
-for f in sorted(glob.glob("docs/issue11/session*/campaigns/**/default_variant_*.txt", recursive=True)):
-    name, session = os.path.basename(f)[8:-4], int(f.split("/")[2][7:])
-    for line in open(f):
-        if line.startswith('{"seed'):
-            d = json.loads(line)
-            if (name, d["seed"]) not in latest or session >= latest[(name, d["seed"])][0]:
-                latest[(name, d["seed"])] = (session, d)
+latest = latest_runs()
 tot_b, tot_a, moved, dt = {}, {}, 0, []
 for line in open(sys.argv[1]):
     name, seed = line.split()[:2]
@@ -21,7 +16,7 @@ for line in open(sys.argv[1]):
     if now is None:
         continue
     band = [p for p in glob.glob(f"docs/issue11/session65/campaigns/final/band*/{name}_s{seed}_px0.txt")]
-    b = first(band[0]) if band else latest[(name, int(seed))][1]
+    b = first(band[0]) if band else latest[(name, int(seed))]
     tot_b[b["outcome"]] = tot_b.get(b["outcome"], 0) + 1
     tot_a[now["outcome"]] = tot_a.get(now["outcome"], 0) + 1
     new_close = "close_in" in now["states"] and "close_in" not in b["states"]
