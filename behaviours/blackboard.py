@@ -123,7 +123,6 @@ class BehaviourConfig:
     close_in_weak_one_look: float = 0.6
     close_in_one_look: float = 0.7
     close_in_weak_min_error_cut: float = 0.25
-    close_in_before_none: bool = False
     weak_look_again: bool = True
     shake_yaw_rate_rad_s: float = 0.35
     shake_swing_s: float = 0.4

@@ -50,11 +50,6 @@ class CloseInStep:
     descent_m: float = 0.0
     elevation_after_rad: float = 0.0
 
-    @property
-    def error_cut(self) -> float:
-        """The share by which the advance cuts the arm's stereo depth error (which grows with the square of the range)."""
-        return 1.0 - (self.range_after_m / max(self.range_before_m, 1e-9)) ** 2
-
 
 def horizontal_range_m(xyz) -> float:
     """Return a camera-frame point's range in the camera's x-z plane, metres.

@@ -231,7 +231,7 @@ class SelectTarget(_ArmWatch):
         if decision.kind == "undecided" or self.views_disagree(bb, decision):
             return None
         _tell_decision(bb, decision)
-        move = self.move_before_none(bb, decision) or self.move_before_weak(bb, decision)
+        move = self.move_before_weak(bb, decision)
         if move is not None:
             return move
         bb.decided.append(decision.record(bb.now_s))
@@ -302,7 +302,7 @@ class SelectTarget(_ArmWatch):
         step = self.close_in_step(bb)
         if step is None:
             return None
-        cut = step.error_cut
+        cut = 1.0 - (step.range_after_m / max(step.range_before_m, 1e-9)) ** 2
         if cut < c.close_in_weak_min_error_cut:
             bb.say(f"{decision.best} only {decision.one_look:.2f} counted as one look, but closing in "
                    f"{step.distance_m:.2f} m would cut the arm's depth error by {cut:.0%} only: not closing in")
@@ -310,27 +310,6 @@ class SelectTarget(_ArmWatch):
         bb.say(f"{decision.best} only {decision.one_look:.2f} counted as one look "
                f"(< {c.close_in_one_look:g}): closer before deciding", "notice", pilot=True)
         return step
-
-    def move_before_none(self, bb: Blackboard, decision: FusedDecision) -> str | None:
-        """Return "close_in" before acting on a "nothing detected" decision at range, or None (act on it).
-
-        With ``behaviour.close_in_before_none`` a point at nothing with the diver farther than
-        ``behaviour.decide_max_range_m`` is not told to the diver before a nearer view (once per point, when a
-        safe advance exists that cuts the range as ``behaviour.close_in_weak_min_error_cut`` asks): a small
-        faint placard at 4 m can be missed in every frame from there and found from 1 m nearer.
-        """
-        c = bb.config
-        if decision.kind != "none" or not c.close_in_before_none or bb.close_ins:
-            return None
-        step = self.close_in_step(bb)
-        if step is None:
-            return None
-        if step.error_cut < c.close_in_weak_min_error_cut:
-            return None
-        bb.say(f"nothing detected where pointed (p {decision.posterior.get('none', float('nan')):.2f}) with the diver "
-               f"{step.range_before_m:.1f} m away: closer before deciding", "notice", pilot=True)
-        bb.close_in_step = step
-        return "close_in"
 
     def move_before_weak(self, bb: Blackboard, decision: FusedDecision) -> str | None:
         """Return the move to make before acting on a weak object decision ("close_in", "second_look"), or None.

@@ -295,29 +295,6 @@ def test_a_weak_decision_is_not_delayed_for_an_advance_too_short_to_settle_the_t
     assert any(isinstance(o, StatusText) and "closer before deciding" in o.text for o in m.bb.outbox)
 
 
-def test_nothing_detected_at_range_closes_in_first_when_asked_and_then_tells_the_diver(rig):
-    """``behaviour.close_in_before_none``: a point at nothing with the diver beyond ``behaviour.decide_max_range_m``
-    is told to the diver only after a nearer view (once per point); near, or with the switch off, at once."""
-    nothing = dict(scores=(0.03, 0.02), none_p=0.95)
-    m = _close_inengaged_mission(rig, **{"behaviour.select_timeout_s": 30.0, "behaviour.close_in_before_none": True})
-    enter(m, "select_target")
-    fired = feed(m, [_frame(shoulder=(-0.5, -0.3, 3.2), **nothing)] * 12 + [None])
-    assert "close_in" in fired and "nothing_there" not in fired and m.bb.decision.kind == "none"
-    assert any(isinstance(o, StatusText) and "nothing detected where pointed" in o.text for o in m.bb.outbox)
-    assert not m.bb.decided  # not a decision told to the diver yet
-    step = m.bb.close_in_step
-    trig, _ = move_until_trigger(m, _frame(shoulder=(-0.5, -0.3, 3.2), **nothing), 2000)
-    assert trig == "closer" and m.state == "select_target"
-    fired = feed(m, [_frame(shoulder=(-0.4, -0.3, 2.6), moved_m=step.offset_m, **nothing)] * 12 + [None],
-                 t0=m.bb.now_s)
-    assert "nothing_there" in fired and m.state == "nothing_there"  # the nearer view sees nothing too: told
-    for shoulder, on in (((-0.4, -0.3, 2.2), True), ((-0.5, -0.3, 3.2), False)):
-        m = _close_inengaged_mission(rig, **{"behaviour.select_timeout_s": 30.0, "behaviour.close_in_before_none": on})
-        enter(m, "select_target")
-        fired = feed(m, [_frame(shoulder=shoulder, **nothing)] * 12 + [None])
-        assert "nothing_there" in fired and "close_in" not in fired  # near, or the switch off
-
-
 # ----------------------------------------------------------------------------- a weak decision needs a second view
 NEAR_SHOULDER = (-0.4, -0.3, 2.2)
 """A diver nearer than ``behaviour.decide_max_range_m``: no close in."""
