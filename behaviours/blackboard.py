@@ -103,7 +103,6 @@ class BehaviourConfig:
     fusion_arm_frames: int = 4
     fusion_recall_s: float = 0.0
     fusion_spot_support: bool = False
-    fusion_spot_support_min_p: float = 0.0
     fusion_min_shared_posterior: float = 0.5
     fusion_shared_rule: str = "always"
     fusion_min_pose_shared_posterior: float = 0.5

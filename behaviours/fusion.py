@@ -79,7 +79,6 @@ class Hypothesis:
         led: frames in which it had the highest probability of all hypotheses (none included).
         obj, candidates, stamp_s: its sighting for the tracker (``_tracker_sighting``).
         best_p: its highest single-frame probability.
-        backed: the earlier frames' spots on it were given to it (``PointFusion._back_support``).
         pool: its sightings, (object, its frame's candidates) for every object that fell on it, newest
             first (the tracker's model for a target whose sighting holds few; at most ``POOL_SIGHTINGS``).
     """
@@ -93,7 +92,6 @@ class Hypothesis:
     candidates: Candidates | None = None
     stamp_s: float = 0.0
     best_p: float = 0.0
-    backed: bool = False
     pool: list = field(default_factory=list)
 
 
@@ -248,8 +246,6 @@ class PointFusion:
             ``radius_m`` of a hypothesis that frame found no object on supports that hypothesis instead,
             also back in the earlier frames of a hypothesis first seen late (``_spot_support``,
             ``_back_support``; with ``recall_s`` those frames are "none"'s anyway: not back).
-        spot_support_min_p: spots support only a hypothesis some frame recognised with at least this
-            probability (``Hypothesis.best_p``); the back support waits until it has (0: any hypothesis).
 
     Raises:
         ValueError: an unknown ``shared_rule``.
@@ -266,7 +262,6 @@ class PointFusion:
     recall_s: float = 0.0
     max_extent_m: float = math.inf
     spot_support: bool = False
-    spot_support_min_p: float = 0.0
     shared_error: bool = False
     pose_error: bool = False
     direction: np.ndarray | None = None
@@ -388,6 +383,7 @@ class PointFusion:
             if h is None:
                 h = Hypothesis(f"o{len(self.hypotheses) + 1}", xyz.copy(), 0.0, self._unseen_log_sum(floor))
                 self.hypotheses.append(h)
+                self._back_support(h)
             w = max(p, 1e-6)
             h.xyz_m = (h.weight * h.xyz_m + w * xyz) / (h.weight + w)
             h.weight += w
@@ -402,9 +398,6 @@ class PointFusion:
             h.log_sum += self._log(support) if h.key in seen or h.key in either else floor
             if h.key in seen:
                 h.best_p = max(h.best_p, seen[h.key])
-                if not h.backed and h.best_p >= self.spot_support_min_p:
-                    h.backed = True  # first recognised firmly enough now: its earlier frames' spots
-                    self._back_support(h)
         self.none_log_sum += self._log(p_none)
         part = dict(seen, **{NONE: p_none})
         leader = max(part, key=part.get)
@@ -432,16 +425,10 @@ class PointFusion:
         sel = result.selection
         if not self.spot_support or sel is None or not sel.spots:
             return 0.0, []
-        support, rest = self.spots.claim(sel.spots, self._supported, set(seen) | set(either))
+        support, rest = self.spots.claim(sel.spots, self.match, set(seen) | set(either))
         for key, p in support.items():
             seen[key] = seen.get(key, 0.0) + p
         return float(sum(support.values())), rest
-
-    def _supported(self, xyz: np.ndarray) -> Hypothesis | None:
-        """Return the hypothesis a spot at ``xyz`` supports: the nearest within ``radius_m`` if some frame recognised
-        it with at least ``spot_support_min_p``, else None."""
-        h = self.match(xyz)
-        return h if h is not None and h.best_p >= self.spot_support_min_p else None
 
     def _back_support(self, h: Hypothesis) -> None:
         """Give a hypothesis first seen now the earlier frames' unclaimed spots on it, taken from their "none".

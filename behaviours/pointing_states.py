@@ -40,7 +40,7 @@ def _fuse_frame(bb: Blackboard, result, direction) -> FrameEvidence | None:
                                 shared_rule=c.fusion_shared_rule,
                                 min_pose_shared_posterior=c.fusion_min_pose_shared_posterior,
                                 recall_s=c.fusion_recall_s, max_extent_m=c.target_max_extent_m,
-                                spot_support=c.fusion_spot_support, spot_support_min_p=c.fusion_spot_support_min_p)
+                                spot_support=c.fusion_spot_support)
     fusion = bb.fusion
     if direction is not None and fusion.direction is not None:
         mean = fusion.direction / max(float(np.linalg.norm(fusion.direction)), 1e-9)

@@ -75,34 +75,3 @@ def test_an_object_first_recognised_late_takes_its_spots_in_the_earlier_frames()
     post = on.posterior()
     assert post["o2"] > post["o1"] and post["none"] < 0.01            # the decoy no longer wins over the target
     assert on.none_led + sum(h.led for h in on.hypotheses) == len(on.frames)
-
-
-def test_spots_support_only_an_object_some_frame_recognised_firmly_and_back_from_then():
-    """``spot_support_min_p`` (session 66): a decoy the arm leans to at 0.6-0.8 whenever it is recognised
-    (variant_12_03 seed 2) gets no support from the spots on its face; the pointed faint placard, recognised at
-    0.9+ in a few frames, takes them, also those of the frames before it first passed the bar."""
-    f = PointFusion(0.3, floor_p=0.02, spot_support=True, spot_support_min_p=0.85)
-    f.add(_frame({1.0: 0.7, 2.0: 0.05}, 0.25), 0.0)                     # o1 recognised, but only at 0.7
-    part = f.add(_with_spots(_frame({2.0: 0.1}, 0.9), [((1.05, 0.0, 3.0), 0.8)]), 0.2)
-    assert part.probabilities["none"] == pytest.approx(0.9)             # its spot stays "nothing detected"
-    f.add(_frame({1.0: 0.92, 2.0: 0.03}, 0.05), 0.4)                    # now recognised firmly
-    assert f.frames[1].probabilities["o1"] == pytest.approx(0.8)        # the earlier spot is given to it
-    assert f.frames[1].probabilities["none"] == pytest.approx(0.1)
-    part = f.add(_with_spots(_frame({2.0: 0.1}, 0.9), [((0.95, 0.0, 3.0), 0.8)]), 0.6)
-    assert part.probabilities["o1"] == pytest.approx(0.8)               # and the later ones
-    assert f.hypothesis("o1").backed
-
-
-def test_with_the_bar_at_zero_any_object_takes_its_spots_from_its_first_sighting():
-    def run(**bar):
-        f = PointFusion(0.3, floor_p=0.02, spot_support=True, **bar)
-        for k in range(4):
-            f.add(_with_spots(_frame({2.0: 0.3}, 0.7), [((1.0, 0.0, 3.0), 0.5)]), 0.2 * k)
-        f.add(_frame({1.0: 0.4, 2.0: 0.3}, 0.3), 0.8)
-        f.add(_with_spots(_frame({2.0: 0.3}, 0.7), [((1.0, 0.0, 3.0), 0.5)]), 1.0)
-        return [fr.probabilities for fr in f.frames], f.posterior()
-
-    frames, _ = run()
-    assert frames[0]["o2"] == pytest.approx(0.5)                        # back support at the first sighting
-    frames, post = run(spot_support_min_p=0.85)
-    assert "o2" not in frames[0] and "o2" not in frames[-1]             # under the bar: no support at all
