@@ -124,6 +124,7 @@ class BehaviourConfig:
     close_in_one_look: float = 0.7
     close_in_weak_min_error_cut: float = 0.25
     weak_look_again: bool = True
+    nothing_there_relook_s: float = 0.0
     shake_yaw_rate_rad_s: float = 0.35
     shake_swing_s: float = 0.4
     stop_gesture: bool = True
@@ -203,7 +204,8 @@ class Blackboard:
     of each decision the mission acted on: a target chosen or "nothing there", in order; the last
     ``DECIDED_KEPT``); ``look_step`` / ``second_looks`` (the planned second
     look and how many this point has had); ``close_in_step`` / ``close_ins`` (the planned advance
-    toward a far diver and how many this point has had); ``weak_lean`` (a weak decision's winner
+    toward a far diver and how many this point has had); ``relooks`` (fresh looks this point had after a "nothing
+    there" the diver kept pointing through); ``weak_lean`` (a weak decision's winner
     carried across the move made before acting on it, ``weak_lean.py``; None: none); ``held_short_m`` (how much
     longer than ``standoff_m`` the approach to the chosen target holds off, m: the way round the other objects and the
     diver held short, ``clearance.py``; 0 until then); ``ack_pending`` (an acknowledgement began and has not played to
@@ -231,6 +233,7 @@ class Blackboard:
     second_looks: int = 0
     close_in_step: CloseInStep | None = None
     close_ins: int = 0
+    relooks: int = 0
     weak_lean: WeakLean | None = None
     target: TrackedTarget | None = None
     errors: ServoErrors | None = None

@@ -143,15 +143,21 @@ class Suspended(MissionState):
 
 class NothingThere(_ReleaseWatch):
     """Nothing detected where the diver points: no motion toward anything; tell them with a shake and the
-    pilot with a STATUSTEXT, then wait for the arm to come down (a new point)."""
+    pilot with a STATUSTEXT, then wait for the arm to come down (a new point).
+
+    A diver who keeps pointing after the shake insists: with ``behaviour.nothing_there_relook_s`` > 0, the arm
+    raised in every frame for that long after the shake (and the point not looked at again yet) -> ``insisted``:
+    the point is confirmed and decided again from fresh frames (``bb.relooks``), with every bar as before.
+    """
 
     name = "nothing_there"
-    triggers = ("released",)
+    triggers = ("released", "insisted")
 
     def enter(self, bb: Blackboard) -> None:
         super().enter(bb)
         bb.stop()
         bb.chosen = None
+        self.raised_since_s: float | None = None
         p = bb.decision.posterior.get("none", float("nan")) if bb.decision is not None else float("nan")
         bb.say(f"nothing detected where pointed (p {p:.2f})", "notice", pilot=True)
         bb.say("shaking: yaw left-right-left-right, then waiting for a new point")
@@ -161,7 +167,31 @@ class NothingThere(_ReleaseWatch):
     def tick(self, bb: Blackboard) -> str | None:
         command, _, finished = self.shake.tick(bb.now_s)
         bb.set_command(None if finished else command)
-        return "released" if finished and self.arm_released(bb) else None
+        if not finished:
+            return None
+        result = new_result(bb)
+        if result is not None and self.insists(bb, result):
+            return "insisted"
+        return "released" if self.arm_released(bb) else None
+
+    def insists(self, bb: Blackboard, result) -> bool:
+        """True once this tick's frame ends ``behaviour.nothing_there_relook_s`` of a raised arm after the shake
+        (reset by a frame without it), when the point has a re-look left."""
+        c = bb.config
+        if c.nothing_there_relook_s <= 0.0 or bb.relooks >= 1:
+            return False
+        if not arm_raised(bb, result):
+            self.raised_since_s = None
+            return False
+        stamp = bb.observation.stamp_s
+        self.raised_since_s = stamp if self.raised_since_s is None else self.raised_since_s
+        if stamp - self.raised_since_s < c.nothing_there_relook_s:
+            return False
+        bb.relooks += 1
+        bb.fusion = None  # fresh frames: the first look's evidence is not counted twice
+        bb.say(f"diver still pointing {c.nothing_there_relook_s:g} s after the shake: looking again", "notice",
+               pilot=True)
+        return True
 
     def exit(self, bb: Blackboard) -> None:
         bb.set_command(None)

@@ -113,6 +113,7 @@ class WaitForDiver(MissionState):
         bb.fusion = None  # a new point starts its evidence afresh
         bb.second_looks = 0
         bb.close_ins = 0
+        bb.relooks = 0
         bb.weak_lean = None
         self.history: deque[bool] = deque(maxlen=bb.config.arm_seen_m)
 
