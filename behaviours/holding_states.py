@@ -146,7 +146,7 @@ class NothingThere(_ReleaseWatch):
     pilot with a STATUSTEXT, then wait for the arm to come down (a new point).
 
     A diver who keeps pointing after the shake insists: with ``behaviour.nothing_there_relook_s`` > 0, the arm
-    raised in every frame for that long after the shake (and the point not looked at again yet) -> ``insisted``:
+    kept raised for that long after the shake (``insists``) (and the point not looked at again yet) -> ``insisted``:
     the point is confirmed and decided again from fresh frames (``bb.relooks``), with every bar as before.
     """
 
@@ -158,6 +158,7 @@ class NothingThere(_ReleaseWatch):
         bb.stop()
         bb.chosen = None
         self.raised_since_s: float | None = None
+        self.misses = 0
         p = bb.decision.posterior.get("none", float("nan")) if bb.decision is not None else float("nan")
         bb.say(f"nothing detected where pointed (p {p:.2f})", "notice", pilot=True)
         bb.say("shaking: yaw left-right-left-right, then waiting for a new point")
@@ -176,16 +177,18 @@ class NothingThere(_ReleaseWatch):
 
     def insists(self, bb: Blackboard, result) -> bool:
         """True once this tick's frame ends ``behaviour.nothing_there_relook_s`` of a raised arm after the shake
-        (reset by a frame without it), when the point has a re-look left."""
+        (as in select_target, the arm counts as kept until ``behaviour.arm_lost_frames`` frames in a row miss
+        it), when the point has a re-look left."""
         c = bb.config
         if c.nothing_there_relook_s <= 0.0 or bb.relooks >= 1:
             return False
-        if not arm_raised(bb, result):
+        raised = arm_raised(bb, result)
+        self.misses = 0 if raised else self.misses + 1
+        if self.misses >= c.arm_lost_frames:
             self.raised_since_s = None
-            return False
-        stamp = bb.observation.stamp_s
-        self.raised_since_s = stamp if self.raised_since_s is None else self.raised_since_s
-        if stamp - self.raised_since_s < c.nothing_there_relook_s:
+        elif raised and self.raised_since_s is None:
+            self.raised_since_s = bb.observation.stamp_s
+        if self.raised_since_s is None or bb.observation.stamp_s - self.raised_since_s < c.nothing_there_relook_s:
             return False
         bb.relooks += 1
         bb.fusion = None  # fresh frames: the first look's evidence is not counted twice

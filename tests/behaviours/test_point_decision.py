@@ -326,9 +326,10 @@ def test_select_target_goes_to_nothing_there_which_shakes_tells_and_waits(rig):
 
 def test_a_diver_who_keeps_pointing_after_nothing_there_gets_one_fresh_look(rig):
     """``behaviour.nothing_there_relook_s``: the arm raised in every frame for that long after the shake -> the point
-    is confirmed and decided again from fresh frames; once per point; a lowered frame restarts the wait."""
-    over = {"behaviour.vote_frames": 4, "behaviour.min_votes": 3, "behaviour.release_frames": 3,
-            "behaviour.nothing_there_relook_s": 1.0}
+    is confirmed and decided again from fresh frames; once per point; ``behaviour.arm_lost_frames`` lowered frames
+    in a row restart the wait (one does not)."""
+    over = {"behaviour.vote_frames": 4, "behaviour.min_votes": 3, "behaviour.release_frames": 5,
+            "behaviour.arm_lost_frames": 3, "behaviour.nothing_there_relook_s": 1.0}
     m = engaged_mission(rig, **over)
     enter(m, "select_target")
     nothing, there = _frame({1.0: 0.05, 2.0: 0.03}, 0.92), _frame({1.0: 0.8, 2.0: 0.05}, 0.15)
@@ -336,8 +337,9 @@ def test_a_diver_who_keeps_pointing_after_nothing_there_gets_one_fresh_look(rig)
     assert m.state == "nothing_there"
     _, total = shake_schedule(m.bb.config)
     _feed(m, [None] * int(total / 0.2 + 1), t0=m.bb.now_s)       # the shake plays out
-    fired = _feed(m, [nothing] * 3 + [_frame({1.0: 0.05}, 0.9, raised=False)] + [nothing] * 4, t0=m.bb.now_s)
-    assert not any(fired) and m.state == "nothing_there"         # 0.8 s raised, a lowered frame, 0.8 s again
+    down = _frame({1.0: 0.05}, 0.9, raised=False)
+    fired = _feed(m, [nothing] * 3 + [down] * 3 + [nothing, down] + [nothing] * 2, t0=m.bb.now_s)
+    assert not any(fired) and m.state == "nothing_there"         # three lowered frames: the wait starts again
     fired = _feed(m, [nothing] * 2, t0=m.bb.now_s)
     assert fired[-1] == "insisted" and m.state == "confirm_point" and m.bb.relooks == 1
     assert any(isinstance(o, StatusText) and "looking again" in o.text for o in m.bb.outbox)
@@ -350,7 +352,7 @@ def test_a_diver_who_keeps_pointing_after_nothing_there_gets_one_fresh_look(rig)
     _feed(m, [None] * int(total / 0.2 + 1), t0=m.bb.now_s)
     fired = _feed(m, [nothing] * 40, t0=m.bb.now_s)
     assert fired.count("insisted") == 1 and fired.count("nothing_there") == 1 and m.state == "nothing_there"
-    _feed(m, [_frame({1.0: 0.05}, 0.9, raised=False)] * 3, t0=m.bb.now_s)
+    _feed(m, [down] * 5, t0=m.bb.now_s)
     assert m.state == "wait_for_diver" and m.bb.relooks == 0     # a new point may insist again
     m = engaged_mission(rig, **{**over, "behaviour.nothing_there_relook_s": 0.0})
     enter(m, "select_target")
