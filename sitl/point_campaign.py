@@ -21,7 +21,8 @@ it was not moving), and motion commands received after that (must be 0).
 
 ``mission``: a scenario over seeds (arrived at the pointed placard / at a wrong one / abstained), with
 the time from the point (the arm fully raised) to the decision and whether ``nothing_there`` or a
-second try (``ambiguous``) happened. Each run also gives the first decision's fused posterior and
+second try (``ambiguous``) happened, and how many fresh looks followed a "nothing there" the diver kept
+pointing through (``relooks``; ``nothing_there`` counts the runs that said it at least once). Each run also gives the first decision's fused posterior and
 its posterior with the point's frames counted as one look (``behaviours/fusion.py``): the frames
 share the diver's pointing error, so the one-look figure is what the point said once. ``decisions``
 holds the record of every decision the mission acted on (``FusedDecision.record``: also the one-look
@@ -174,12 +175,18 @@ def mission_trial(args: tuple) -> dict:
             "decision": None if first is None else first["kind"],
             "decision_posterior": None if first is None else first["posterior"],
             "decision_one_look": None if first is None else first["one_look"],
-            "ambiguous_round_trips": states.count("confirm_point") - 1, "nothing_there": "nothing_there" in states,
+            "ambiguous_round_trips": states.count("confirm_point") - 1 - _relooks(states),
+            "nothing_there": "nothing_there" in states, "relooks": _relooks(states),
             "second_looks": states.count("second_look"), "second_look_displacement_m": _look_displacement(sim),
             "second_look_resolved": _resolved_after_look(states), "time_to_arrive_s": result.time_to_arrive_s,
             "states": states, "decisions": list(sim.mission.bb.decided),
             "closest_other_m": doc["closest_other_m"], "closest_m": doc["closest_m"],
             "closest_diver_m": doc["closest_diver_m"], "held_short_m": doc["held_short_m"]}
+
+
+def _relooks(states: list[str]) -> int:
+    """Return how many fresh looks followed a "nothing there" the diver kept pointing through."""
+    return sum(a == "nothing_there" and b == "confirm_point" for a, b in zip(states, states[1:]))
 
 
 def _look_displacement(sim) -> float:
@@ -291,6 +298,7 @@ def _summary(which: str, rows: list[dict]) -> dict:
             "wrong": sum(r["outcome"] == "wrong" for r in rows),
             "abstained": sum(r["outcome"] == "abstained" for r in rows),
             "nothing_there": sum(r["nothing_there"] for r in rows),
+            "relook_runs": sum(r.get("relooks", 0) > 0 for r in rows),
             "decision_median_s": statistics.median(times) if times else None,
             "decision_max_s": max(times) if times else None,
             "ambiguous_round_trips": sum(max(0, r["ambiguous_round_trips"]) for r in rows),
