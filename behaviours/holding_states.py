@@ -145,9 +145,9 @@ class NothingThere(_ReleaseWatch):
     """Nothing detected where the diver points: no motion toward anything; tell them with a shake and the
     pilot with a STATUSTEXT, then wait for the arm to come down (a new point).
 
-    A diver who keeps pointing after the shake insists: with ``behaviour.nothing_there_relook_s`` > 0, the arm
-    kept raised for that long after the shake (``insists``) (and the point not looked at again yet) -> ``insisted``:
-    the point is confirmed and decided again from fresh frames (``bb.relooks``), with every bar as before.
+    A diver who keeps pointing after the shake insists (``insists``): the arm kept raised for
+    ``behaviour.nothing_there_relook_s`` after it, once per point (``bb.relooks``) -> ``insisted``: the point is
+    confirmed and decided again from fresh frames, with every bar as before (0 s: never, wait for the arm).
     """
 
     name = "nothing_there"

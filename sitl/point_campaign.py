@@ -21,8 +21,9 @@ it was not moving), and motion commands received after that (must be 0).
 
 ``mission``: a scenario over seeds (arrived at the pointed placard / at a wrong one / abstained), with
 the time from the point (the arm fully raised) to the decision and whether ``nothing_there`` or a
-second try (``ambiguous``) happened, and how many fresh looks followed a "nothing there" the diver kept
-pointing through (``relooks``; ``nothing_there`` counts the runs that said it at least once). Each run also gives the first decision's fused posterior and
+second try (``ambiguous``) happened, and how many fresh looks followed a "nothing there" the diver
+kept pointing through (``relooks``; ``nothing_there`` counts the runs that said it at least once).
+Each run also gives the first decision's fused posterior and
 its posterior with the point's frames counted as one look (``behaviours/fusion.py``): the frames
 share the diver's pointing error, so the one-look figure is what the point said once. ``decisions``
 holds the record of every decision the mission acted on (``FusedDecision.record``: also the one-look
