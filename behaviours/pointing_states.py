@@ -210,6 +210,7 @@ class SelectTarget(_ArmWatch):
         self.added = 0
         self.last_arm3d = None
         self.disagreed = False
+        self.relook_doubt = False
 
     def tick(self, bb: Blackboard) -> str | None:
         c = bb.config
@@ -229,7 +230,7 @@ class SelectTarget(_ArmWatch):
             return None
         decision = bb.fusion.decide(c.fusion_min_posterior, c.min_votes)
         bb.decision = decision
-        if decision.kind == "undecided" or self.views_disagree(bb, decision):
+        if decision.kind == "undecided" or self.views_disagree(bb, decision) or self.relook_unclear(bb, decision):
             return None
         _tell_decision(bb, decision)
         move = self.move_before_weak(bb, decision)
@@ -267,7 +268,9 @@ class SelectTarget(_ArmWatch):
         if step is not None:
             bb.look_step = step
             return "second_look"
-        why = "the views before and after the move lean to different objects" if self.disagreed else decision.reason
+        why = ("the views before and after the move lean to different objects" if self.disagreed else
+               "the fresh look after \"nothing there\" leans to an object, but not clearly" if self.relook_doubt
+               else decision.reason)
         bb.say(f"ambiguous: {why}", "notice", pilot=True)
         return "ambiguous"
 
@@ -383,6 +386,22 @@ class SelectTarget(_ArmWatch):
             bb.say(f"{decision.best} leads {decision.one_look:.2f} counted as one look after the {moves}, {both:.2f} "
                    f"with the view before it, where {lean.key} led ({lean.one_look:.2f}), {where}: the two views "
                    f"disagree, not acting", "notice", pilot=True)
+        return True
+
+    def relook_unclear(self, bb: Blackboard, decision: FusedDecision) -> bool:
+        """True when a fresh look after "nothing there" (``bb.relooks``) leans to an object under
+        ``behaviour.nothing_there_relook_one_look`` counted as one look (said once per state): it contradicts the
+        first look, so it is not acted on unless it is clear."""
+        c = bb.config
+        if not bb.relooks or decision.kind != "object" or decision.one_look is None:
+            return False
+        if decision.one_look >= c.nothing_there_relook_one_look:
+            return False
+        if not self.relook_doubt:
+            self.relook_doubt = True
+            bb.say(f"{decision.best} leads {decision.one_look:.2f} counted as one look in the fresh look after "
+                   f"\"nothing there\" (< {c.nothing_there_relook_one_look:g}): the two looks disagree, not acting",
+                   "notice", pilot=True)
         return True
 
     def look_step(self, bb: Blackboard, decision: FusedDecision) -> LookStep | None:

@@ -360,6 +360,30 @@ def test_a_diver_who_keeps_pointing_after_nothing_there_gets_one_fresh_look(rig)
     assert "insisted" not in _feed(m, [nothing] * 60, t0=m.bb.now_s) and m.state == "nothing_there"  # off
 
 
+def test_a_fresh_look_after_nothing_there_acts_only_on_a_clear_object(rig):
+    """variant_38_05 seed 0 (issue 11 session 66): a 4 cm pointed placard; the first look "nothing there" (0.62
+    counted as one look), the fresh look a decoy at 0.62 counted as one look. Under
+    ``behaviour.nothing_there_relook_one_look`` the two looks disagree: not acted on; without a "nothing there"
+    before, the same lean decides."""
+    over = {"behaviour.vote_frames": 4, "behaviour.min_votes": 3, "behaviour.nothing_there_relook_s": 1.0,
+            "behaviour.select_timeout_s": 3.0}
+    lean = _frame({1.0: 0.64, 2.0: 0.06}, 0.3)
+    m = engaged_mission(rig, **over)
+    enter(m, "select_target")
+    _feed(m, [_frame({1.0: 0.05, 2.0: 0.03}, 0.92)] * 4)
+    _, total = shake_schedule(m.bb.config)
+    _feed(m, [None] * int(total / 0.2 + 1), t0=m.bb.now_s)
+    fired = _feed(m, [_frame({1.0: 0.05, 2.0: 0.03}, 0.92)] * 6, t0=m.bb.now_s)
+    assert fired[-1] == "insisted"
+    fired = _feed(m, [lean] * 30, t0=m.bb.now_s)
+    assert "winner" not in fired and "ambiguous" in fired and m.bb.chosen is None
+    assert 0.6 <= m.bb.decision.one_look < 0.7
+    assert any(isinstance(o, StatusText) and "the two looks disagree" in o.text for o in m.bb.outbox)
+    m = engaged_mission(rig, **over)
+    enter(m, "select_target")
+    assert "winner" in _feed(m, [lean] * 6)  # no "nothing there" before: acted on
+
+
 def test_the_point_evidence_survives_an_ambiguous_round_trip_but_not_a_new_direction(rig):
     m = engaged_mission(rig, **{"behaviour.vote_frames": 4, "behaviour.select_timeout_s": 0.5,
                          "behaviour.second_look_max_tries": 0})
