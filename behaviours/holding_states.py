@@ -24,12 +24,15 @@ class _ReleaseWatch(MissionState):
         super().enter(bb)
         self.lowered = 0
 
-    def arm_released(self, bb: Blackboard) -> bool:
-        """Count this tick's new frame without the raised arm (reset on one with it); True once the arm is down."""
+    def arm_released(self, bb: Blackboard, raised: bool | None = None) -> bool:
+        """Count this tick's new frame without the raised arm (reset on one with it); True once the arm is down.
+
+        ``raised``: the frame's ``arm_raised``, when the caller already has it."""
         result = new_result(bb)
         if result is None:
             return False
-        self.lowered = 0 if arm_raised(bb, result) else self.lowered + 1
+        raised = arm_raised(bb, result) if raised is None else raised
+        self.lowered = 0 if raised else self.lowered + 1
         if self.lowered >= bb.config.release_frames:
             bb.say("diver's arm down: ready for a new request")
             return True
@@ -172,18 +175,20 @@ class NothingThere(_ReleaseWatch):
         if not finished:
             return None
         result = new_result(bb)
-        if result is not None and self.insists(bb, result):
+        if result is None:
+            return None
+        raised = arm_raised(bb, result)
+        if self.insists(bb, raised):
             return "insisted"
-        return "released" if self.arm_released(bb) else None
+        return "released" if self.arm_released(bb, raised) else None
 
-    def insists(self, bb: Blackboard, result) -> bool:
+    def insists(self, bb: Blackboard, raised: bool) -> bool:
         """True once this tick's frame ends ``behaviour.nothing_there_relook_s`` of a raised arm after the shake
         (as in select_target, the arm counts as kept until ``behaviour.arm_lost_frames`` frames in a row miss
         it), when the point has a re-look left."""
         c = bb.config
         if c.nothing_there_relook_s <= 0.0 or bb.relooks >= 1:
             return False
-        raised = arm_raised(bb, result)
         self.misses = 0 if raised else self.misses + 1
         if self.misses >= c.arm_lost_frames:
             self.raised_since_s = None
