@@ -209,8 +209,7 @@ class SelectTarget(_ArmWatch):
         self.box = VoteBox(bb.config.vote_radius_m)
         self.added = 0
         self.last_arm3d = None
-        self.disagreed = False
-        self.relook_doubt = False
+        self.doubts: list[str] = []  # why a decision was not acted on (each told once), for the ambiguous timeout
 
     def tick(self, bb: Blackboard) -> str | None:
         c = bb.config
@@ -268,9 +267,7 @@ class SelectTarget(_ArmWatch):
         if step is not None:
             bb.look_step = step
             return "second_look"
-        why = ("the views before and after the move lean to different objects" if self.disagreed else
-               "the fresh look after \"nothing there\" leans to an object, but not clearly" if self.relook_doubt
-               else decision.reason)
+        why = self.doubts[0] if self.doubts else decision.reason
         bb.say(f"ambiguous: {why}", "notice", pilot=True)
         return "ambiguous"
 
@@ -378,14 +375,20 @@ class SelectTarget(_ArmWatch):
                           lean.p_at(decision.winner.xyz_m, c.vote_radius_m), lean.one_look)
         if not weak and both >= c.close_in_weak_one_look:
             return False
-        if not self.disagreed:
-            self.disagreed = True
+        if self.doubt("the views before and after the move lean to different objects"):
             moves = " and ".join(m.replace("_", " ") for m in lean.moves)
             where = (f"{same.key} from here" if same is not None
                      else f"no object within {c.vote_radius_m:g} m of where it should be seen")
             bb.say(f"{decision.best} leads {decision.one_look:.2f} counted as one look after the {moves}, {both:.2f} "
                    f"with the view before it, where {lean.key} led ({lean.one_look:.2f}), {where}: the two views "
                    f"disagree, not acting", "notice", pilot=True)
+        return True
+
+    def doubt(self, why: str) -> bool:
+        """Record why a decision is not acted on; True the first time (tell it then)."""
+        if why in self.doubts:
+            return False
+        self.doubts.append(why)
         return True
 
     def relook_unclear(self, bb: Blackboard, decision: FusedDecision) -> bool:
@@ -397,8 +400,7 @@ class SelectTarget(_ArmWatch):
             return False
         if decision.one_look >= c.nothing_there_relook_one_look:
             return False
-        if not self.relook_doubt:
-            self.relook_doubt = True
+        if self.doubt("the fresh look after \"nothing there\" leans to an object, but not clearly"):
             bb.say(f"{decision.best} leads {decision.one_look:.2f} counted as one look in the fresh look after "
                    f"\"nothing there\" (< {c.nothing_there_relook_one_look:g}): the two looks disagree, not acting",
                    "notice", pilot=True)

@@ -169,6 +169,7 @@ def mission_trial(args: tuple) -> dict:
     outcome = ("wrong" if result.chosen_id is not None and result.chosen_id != result.target_id and
                "acknowledge" in states else "arrived" if result.reached else "abstained")
     first = sim.mission.bb.decided[0] if sim.mission.bb.decided else None
+    relooks = _relooks(states)
     doc = result.to_json()
     return {"seed": seed, "position": result.diver_position, "target_id": result.target_id,
             "chosen_id": result.chosen_id, "outcome": outcome, "arrived": result.arrived,
@@ -176,8 +177,8 @@ def mission_trial(args: tuple) -> dict:
             "decision": None if first is None else first["kind"],
             "decision_posterior": None if first is None else first["posterior"],
             "decision_one_look": None if first is None else first["one_look"],
-            "ambiguous_round_trips": states.count("confirm_point") - 1 - _relooks(states),
-            "nothing_there": "nothing_there" in states, "relooks": _relooks(states),
+            "ambiguous_round_trips": states.count("confirm_point") - 1 - relooks,
+            "nothing_there": "nothing_there" in states, "relooks": relooks,
             "second_looks": states.count("second_look"), "second_look_displacement_m": _look_displacement(sim),
             "second_look_resolved": _resolved_after_look(states), "time_to_arrive_s": result.time_to_arrive_s,
             "states": states, "decisions": list(sim.mission.bb.decided),
