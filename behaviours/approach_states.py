@@ -141,8 +141,9 @@ class _Steering(MissionState):
     @staticmethod
     def extra_m(bb: Blackboard) -> np.ndarray:
         """Return how much further than ``behaviour.servo_clearance_m`` each of ``kept_clear_m``'s rows is kept, metres:
-        0 for the objects, ``behaviour.servo_diver_margin_m`` for the diver's points (the body beyond them)."""
-        return np.r_[np.zeros(len(bb.tracker.neighbours_m)),
+        half each object's span (its edge beyond its centre), ``behaviour.servo_diver_margin_m`` for the diver's
+        points (the body beyond them)."""
+        return np.r_[bb.tracker.neighbours_half_m,
                      np.full(len(bb.tracker.diver_m), bb.config.servo_diver_margin_m)]
 
     def tell_way(self, bb: Blackboard, target: np.ndarray, step: Sidestep) -> None:

@@ -81,6 +81,9 @@ class Hypothesis:
         best_p: its highest single-frame probability.
         pool: its sightings, (object, its frame's candidates) for every object that fell on it, newest
             first (the tracker's model for a target whose sighting holds few; at most ``POOL_SIGHTINGS``).
+        across_m: the widest span across the line of sight of one sighting's 3D features, metres (the largest
+            over its sightings; 0 until a sighting with two features ahead of the camera): how far its edge
+            lies from its centre, for the servo's clearance (``behaviour.servo_clearance_m``).
     """
 
     key: str
@@ -93,6 +96,7 @@ class Hypothesis:
     stamp_s: float = 0.0
     best_p: float = 0.0
     pool: list = field(default_factory=list)
+    across_m: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -212,6 +216,14 @@ def _across_m(xyz_m: np.ndarray) -> float:
     if len(pts) < 2:
         return 0.0
     return extent_m(pts[:, :2] / pts[:, 2:3], float(np.median(pts[:, 2])), 1.0)
+
+
+def _span_m(obj: ObjectCandidate, points_m: np.ndarray) -> float:
+    """Return the widest span of ``obj``'s 3D features (rows of ``points_m``) across the line of sight, m."""
+    members = np.asarray(obj.members, dtype=int)
+    if not len(members) or members.max() >= len(points_m):
+        return 0.0
+    return _across_m(points_m[members])
 
 
 def _pool(h: Hypothesis, obj: ObjectCandidate, candidates: Candidates) -> None:
@@ -390,6 +402,7 @@ class PointFusion:
             if _tracker_sighting(h, obj, h.key in seen):
                 h.obj, h.candidates, h.stamp_s = obj, result.candidates, stamp_s
             _pool(h, obj, result.candidates)
+            h.across_m = max(h.across_m, _span_m(obj, result.candidates_xyz_m))
             seen[h.key] = seen.get(h.key, 0.0) + p
         moved, unclaimed = self._spot_support(result, seen, either)
         p_none -= moved

@@ -65,11 +65,14 @@ def _fuse_frame(bb: Blackboard, result, direction) -> FrameEvidence | None:
     return part
 
 
-def _neighbours_m(bb: Blackboard, winner: Hypothesis) -> np.ndarray:
-    """Return the fusion's other hypotheses as offsets from the winner's (camera frame, metres, (K, 3)): the
-    tracker's known neighbours (refused as the target with ``behaviour.track_neighbours``, kept clear of by the
-    servo with ``behaviour.servo_clearance_m``)."""
-    return np.array([h.xyz_m - winner.xyz_m for h in bb.fusion.hypotheses if h is not winner], float).reshape(-1, 3)
+def _neighbours_m(bb: Blackboard, winner: Hypothesis) -> tuple[np.ndarray, np.ndarray]:
+    """Return the fusion's other hypotheses as offsets from the winner's (camera frame, metres, (K, 3)) and their
+    half spans across the line of sight (metres, (K,)): the tracker's known neighbours (refused as the target with
+    ``behaviour.track_neighbours``, kept clear of by the servo with ``behaviour.servo_clearance_m`` from their
+    edges)."""
+    others = [h for h in bb.fusion.hypotheses if h is not winner]
+    return (np.array([h.xyz_m - winner.xyz_m for h in others], float).reshape(-1, 3),
+            np.array([h.across_m / 2.0 for h in others], float))
 
 
 HAND_BEYOND_WRIST_M = 0.15
@@ -240,8 +243,9 @@ class SelectTarget(_ArmWatch):
             return "nothing_there"
         w = bb.fusion.as_vote(decision.winner)
         bb.chosen = w
-        bb.tracker.start(w.obj, w.candidates, w.stamp_s, w.pool, _neighbours_m(bb, decision.winner),
-                         diver_points_m(self.last_arm3d) - decision.winner.xyz_m)
+        neighbours_m, neighbours_half_m = _neighbours_m(bb, decision.winner)
+        bb.tracker.start(w.obj, w.candidates, w.stamp_s, w.pool, neighbours_m,
+                         diver_points_m(self.last_arm3d) - decision.winner.xyz_m, neighbours_half_m)
         bb.target = bb.tracker.last
         bb.held_short_m = 0.0
         xyz = ", ".join(f"{v:.2f}" for v in w.xyz_m)

@@ -239,6 +239,7 @@ class TargetTracker:
         self.frames = 0
         self.reacquisitions = 0
         self.neighbours_m: np.ndarray = np.zeros((0, 3))
+        self.neighbours_half_m: np.ndarray = np.zeros(0)
         self.diver_m: np.ndarray = np.zeros((0, 3))
         self.yawed_rad = 0.0  # the commanded yaw since start, rad (right +)
         self.start_bearing_rad = 0.0  # the target's bearing in the camera at start, rad (right +)
@@ -258,7 +259,8 @@ class TargetTracker:
 
     def start(self, obj: ObjectCandidate, candidates: Candidates, stamp_s: float,
               pool: list[tuple[ObjectCandidate, Candidates]] | None = None,
-              neighbours_m: np.ndarray | None = None, diver_m: np.ndarray | None = None) -> None:
+              neighbours_m: np.ndarray | None = None, diver_m: np.ndarray | None = None,
+              neighbours_half_m: np.ndarray | None = None) -> None:
         """Start tracking ``obj`` (members index into ``candidates``), seen at ``stamp_s``.
 
         ``pool``: the target's sightings over the decision's frames, (object, its frame's candidates),
@@ -268,6 +270,8 @@ class TargetTracker:
         metres, (K, 3)); they follow the target's prediction, turned by the commanded yaw (``_refused``).
         ``diver_m``: points of the diver's body at the decision, as offsets from the target (camera frame, metres,
         (J, 3)); turned as the neighbours, kept clear of by the servo (never refused as the target).
+        ``neighbours_half_m``: how far each neighbour's edge lies from its centre across the line of sight
+        (metres, (K,); None: 0), added to the servo's clearance of it.
         """
         members = list(obj.members)
         desc = candidates.descriptors[members] if len(candidates.descriptors) == len(candidates) else None
@@ -284,6 +288,8 @@ class TargetTracker:
         self.misses = 0
         self.neighbours_m = np.zeros((0, 3)) if neighbours_m is None else np.asarray(neighbours_m, float).reshape(-1, 3)
         self.diver_m = np.zeros((0, 3)) if diver_m is None else np.asarray(diver_m, float).reshape(-1, 3)
+        self.neighbours_half_m = (np.zeros(len(self.neighbours_m)) if neighbours_half_m is None
+                                  else np.asarray(neighbours_half_m, float).reshape(len(self.neighbours_m)))
         self.yawed_rad, self.start_bearing_rad = 0.0, bearing_rad(self.xyz_m)
         self.velocity = NEUTRAL  # the decision is taken holding still
 

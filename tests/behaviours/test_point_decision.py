@@ -401,6 +401,17 @@ def test_the_point_evidence_survives_an_ambiguous_round_trip_but_not_a_new_direc
     assert len(m.bb.fusion.frames) == 1 and any("pointing moved" in line for line in m.bb.story)
 
 
+def test_a_hypothesis_keeps_the_widest_span_of_its_sightings():
+    """``Hypothesis.across_m``: the widest span of one sighting's features across the line of sight (metres), the
+    largest over the frames; the depth spread of the features does not count."""
+    f = PointFusion(0.3, temper=0.5, floor_p=0.02, max_effective_frames=4)
+    for half in (0.1, 0.15, 0.05):
+        frame = _frame({1.0: 0.7}, 0.1)
+        xyz = np.array([[1.0 - half, 0.0, 3.0], [1.0 + half, 0.0, 3.0], [1.0, 0.05, 3.2]])
+        f.add(PerceptionResult(frame.status, "", frame.arm, frame.arm3d, frame.candidates, xyz, frame.selection), 0.0)
+    assert len(f.hypotheses) == 1 and f.hypotheses[0].across_m == pytest.approx(0.3, abs=0.01)
+
+
 # ----------------------------------------------------------------------------- stop gesture
 def test_stop_gesture_needs_both_wrists_above_the_head():
     stop, _ = _arm(stop=True)
