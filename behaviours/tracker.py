@@ -286,12 +286,17 @@ class TargetTracker:
         self.last = TrackedTarget(np.asarray(obj.left_px, float), self.xyz_m, len(members), stamp_s, obj)
         self.last_seen_s = self.last_frame_s = stamp_s
         self.misses = 0
-        self.neighbours_m = np.zeros((0, 3)) if neighbours_m is None else np.asarray(neighbours_m, float).reshape(-1, 3)
+        self.know_neighbours(np.zeros((0, 3)) if neighbours_m is None else neighbours_m, neighbours_half_m)
         self.diver_m = np.zeros((0, 3)) if diver_m is None else np.asarray(diver_m, float).reshape(-1, 3)
-        self.neighbours_half_m = (np.zeros(len(self.neighbours_m)) if neighbours_half_m is None
-                                  else np.asarray(neighbours_half_m, float).reshape(len(self.neighbours_m)))
         self.yawed_rad, self.start_bearing_rad = 0.0, bearing_rad(self.xyz_m)
         self.velocity = NEUTRAL  # the decision is taken holding still
+
+    def know_neighbours(self, neighbours_m: np.ndarray, half_m: np.ndarray | None = None) -> None:
+        """Set the known neighbours: offsets from the target (camera frame, metres, (K, 3)) and how far each one's
+        edge lies from its centre (metres, (K,); None: 0, points)."""
+        self.neighbours_m = np.asarray(neighbours_m, float).reshape(-1, 3)
+        self.neighbours_half_m = (np.zeros(len(self.neighbours_m)) if half_m is None
+                                  else np.asarray(half_m, float).reshape(len(self.neighbours_m)))
 
     def orbited_rad(self, xyz_m) -> float:
         """Return how far the vehicle has gone round the target since start, seen from the target (the line of

@@ -485,8 +485,7 @@ def test_the_servo_goes_round_a_known_object_beside_its_way(rig, clearance_m):
     (the way round it ends turned left about the target), ramped by the servo's sway acceleration limit and told
     once; with 0 the servo goes straight."""
     m, frame = _servoing(rig, **{"behaviour.servo_clearance_m": clearance_m})
-    m.bb.tracker.neighbours_m = np.array([[0.15, 0.0, -1.0]])  # the target is at (0.3, 0, 2.0)
-    m.bb.tracker.neighbours_half_m = np.zeros(len(m.bb.tracker.neighbours_m))  # points: no span
+    m.bb.tracker.know_neighbours(np.array([[0.15, 0.0, -1.0]]))  # the target is at (0.3, 0, 2.0)
     sways = []
     for k in range(1, 6):
         _tick_at(m, 0.2 * k, frame)
@@ -522,8 +521,7 @@ def test_the_diver_is_kept_further_than_an_object_by_the_body_margin(rig, margin
         if diver:
             m.bb.tracker.diver_m = point
         else:
-            m.bb.tracker.neighbours_m = point
-            m.bb.tracker.neighbours_half_m = np.zeros(len(m.bb.tracker.neighbours_m))  # points: no span
+            m.bb.tracker.know_neighbours(point)
         for k in range(1, 4):
             _tick_at(m, 0.2 * k, frame)
         assert (m.bb.command.sway_m_s > 0) == (turned and diver), (diver, m.bb.command)
@@ -534,8 +532,7 @@ def test_an_object_is_kept_clear_from_its_edge(rig, half_m, turned):
     """A known neighbour 0.8 m left of the direct way: clear of the 0.6 m clearance as a point, but an object
     whose features span 0.5 m across (its edge 0.25 m nearer, ``tracker.neighbours_half_m``) turns the way right."""
     m, frame = _servoing(rig, **{"behaviour.servo_clearance_m": 0.6})
-    m.bb.tracker.neighbours_m = np.array([[-0.95, 0.0, -1.0]])  # the target is at (0.3, 0, 2.0)
-    m.bb.tracker.neighbours_half_m = np.array([half_m])
+    m.bb.tracker.know_neighbours(np.array([[-0.95, 0.0, -1.0]]), [half_m])  # the target is at (0.3, 0, 2.0)
     for k in range(1, 4):
         _tick_at(m, 0.2 * k, frame)
     assert (m.bb.command.sway_m_s > 0) == turned, m.bb.command
@@ -546,8 +543,7 @@ def test_the_servo_holds_short_when_no_way_keeps_clear(rig):
     stand-off grows (held on the blackboard, never shrinking while the target is the same) to the shortest with a
     clear way, and the pilot is told once."""
     m, frame = _servoing(rig, **{"behaviour.servo_clearance_m": 0.6})
-    m.bb.tracker.neighbours_m = np.array([[-0.1, 0.0, -1.2], [-0.6, 0.0, -1.2]])  # the target is at (0.3, 0, 2.0)
-    m.bb.tracker.neighbours_half_m = np.zeros(len(m.bb.tracker.neighbours_m))  # points: no span
+    m.bb.tracker.know_neighbours(np.array([[-0.1, 0.0, -1.2], [-0.6, 0.0, -1.2]]))  # the target is at (0.3, 0, 2.0)
     held = []
     for k in range(1, 6):
         _tick_at(m, 0.2 * k, frame)
@@ -623,14 +619,12 @@ def test_the_servo_keeps_the_direct_way_while_it_falls_short_by_less_than_the_ba
     m, frame = _servoing(rig, **{"behaviour.servo_clearance_m": 0.6})
     sways = []
     for k, short in enumerate((-0.1, 0.03, 0.09), start=1):
-        m.bb.tracker.neighbours_m = _beside_the_way(m, short)
-        m.bb.tracker.neighbours_half_m = np.zeros(len(m.bb.tracker.neighbours_m))  # points: no span
+        m.bb.tracker.know_neighbours(_beside_the_way(m, short))
         _tick_at(m, 0.2 * k, frame)
         sways.append(m.bb.command.sway_m_s)
     assert sways[0] == sways[1] == 0.0 and sways[2] != 0.0
     enter(m, "servo")  # a fresh plan: no direct way taken on the last frame
-    m.bb.tracker.neighbours_m = _beside_the_way(m, 0.03)
-    m.bb.tracker.neighbours_half_m = np.zeros(len(m.bb.tracker.neighbours_m))  # points: no span
+    m.bb.tracker.know_neighbours(_beside_the_way(m, 0.03))
     _tick_at(m, 0.8, frame)
     assert m.bb.command.sway_m_s != 0.0
 
@@ -641,8 +635,7 @@ def _hidden_and_lost(rig, beside=(), **over):
     reached (s), the target's frame and an empty frame."""
     m, frame = _servoing(rig, **{"behaviour.lost_grace_s": 0.5, "behaviour.lost_timeout_s": 2.0, **over})
     # the hider at (0.17, 0, 1.0): 2 cm right of the line of sight
-    m.bb.tracker.neighbours_m = np.array([[0.17, 0.0, 1.0], *beside]) - [0.3, 0.0, 2.0]
-    m.bb.tracker.neighbours_half_m = np.zeros(len(m.bb.tracker.neighbours_m))  # points: no span
+    m.bb.tracker.know_neighbours(np.array([[0.17, 0.0, 1.0], *beside]) - [0.3, 0.0, 2.0])
     empty = TrackFrame(Candidates.empty(), np.zeros((0, 3)))
     t = 0.0
     while m.state != "lost_target":
