@@ -332,7 +332,7 @@ class PointFusion:
                 return h
         return None
 
-    def _within(self, obj: ObjectCandidate, points_m: np.ndarray) -> list[Hypothesis]:
+    def _within(self, obj: ObjectCandidate, points_m: np.ndarray, span_m: float) -> list[Hypothesis]:
         """Return the hypotheses an object wider than one target holds: empty when it fits one target.
 
         An object wider than ``max_extent_m`` across the line of sight is not one target: two placards
@@ -340,14 +340,15 @@ class PointFusion:
         every hypothesis whose centre lies in its features' hull (the camera's image plane, depth within
         ``radius_m``) alike and sights none; fused as one object, it gave its whole probability to the
         nearest placard, and the tracker the chain's centre (issue 11 sessions 48-49, side_by_side_close seed 1).
-        Empty also when it holds no hypothesis (it is then fused as any object).
+        Empty also when it holds no hypothesis (it is then fused as any object). ``span_m``: the object's own span
+        across the line of sight (``_span_m``), metres.
         """
         members = np.asarray(obj.members, dtype=int)
         if not math.isfinite(self.max_extent_m) or not self.hypotheses or not len(members) \
                 or members.max() >= len(points_m):
             return []
         pts = _ahead(points_m[members])
-        if len(pts) < 3 or not _across_m(pts) > self.max_extent_m:
+        if len(pts) < 3 or not span_m > self.max_extent_m:
             return []
         hull = cv2.convexHull((pts[:, :2] / pts[:, 2:3]).astype(np.float32))
         z = float(np.median(pts[:, 2]))
@@ -380,7 +381,8 @@ class PointFusion:
             xyz = np.asarray(obj.xyz_m, dtype=float)
             if not np.all(np.isfinite(xyz)):
                 continue
-            within = self._within(obj, result.candidates_xyz_m)
+            span = _span_m(obj, result.candidates_xyz_m)
+            within = self._within(obj, result.candidates_xyz_m, span)
             if within:  # wider than one target: evidence for each hypothesis it holds, a sighting of none
                 for h in within:
                     either[h.key] = either.get(h.key, 0.0) + p
@@ -402,7 +404,7 @@ class PointFusion:
             if _tracker_sighting(h, obj, h.key in seen):
                 h.obj, h.candidates, h.stamp_s = obj, result.candidates, stamp_s
             _pool(h, obj, result.candidates)
-            h.across_m = max(h.across_m, _span_m(obj, result.candidates_xyz_m))
+            h.across_m = max(h.across_m, span)
             seen[h.key] = seen.get(h.key, 0.0) + p
         moved, unclaimed = self._spot_support(result, seen, either)
         p_none -= moved
