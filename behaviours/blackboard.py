@@ -124,7 +124,7 @@ class BehaviourConfig:
     close_in_one_look: float = 0.7
     close_in_weak_min_error_cut: float = 0.25
     weak_look_again: bool = True
-    nothing_there_relook_s: float = 3.0
+    nothing_there_relook_s: float = 0.0
     nothing_there_relook_one_look: float = 0.7
     shake_yaw_rate_rad_s: float = 0.35
     shake_swing_s: float = 0.4

@@ -151,7 +151,7 @@ class NothingThere(_ReleaseWatch):
     A diver who keeps pointing after the shake insists (``insists``): the arm kept raised for
     ``behaviour.nothing_there_relook_s`` after it, once per point (``bb.relooks``) -> ``insisted``: the point is
     confirmed and decided again from fresh frames, with every bar as before and a clear one for an object
-    (``SelectTarget.relook_unclear``); 0 s: never, wait for the arm.
+    (``SelectTarget.relook_unclear``); 0 s (the default since session 67): never, wait for the arm.
     """
 
     name = "nothing_there"

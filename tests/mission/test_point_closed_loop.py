@@ -12,9 +12,9 @@ from sitl.point_campaign import nothing_trial, stop_trial
 
 @pytest.mark.slow
 def test_nothing_there_shakes_and_never_moves_toward_a_placard():
-    """The diver keeps pointing after the shake: one fresh look (``behaviour.nothing_there_relook_s``), which
+    """The diver keeps pointing after the shake: with ``behaviour.nothing_there_relook_s`` one fresh look, which
     finds nothing there either; no motion at any time."""
-    row = nothing_trial(("nothing_there", 0, {"sitl.max_sim_time_s": 15.0}))
+    row = nothing_trial(("nothing_there", 0, {"sitl.max_sim_time_s": 15.0, "behaviour.nothing_there_relook_s": 3.0}))
     assert row["nothing_there"] and row["shake"], row
     assert row["translation_commands"] == 0 and row["max_displacement_m"] < 0.05 and row["chosen_id"] is None
     assert not row["arrived"] and "acknowledge" not in row["states"]
