@@ -15,7 +15,7 @@ Read the whole mission here::
     suspended --expired--> wait_for_diver      (re-engaged, but the target is lost or too much time passed)
     every state but idle --disengage--> idle    (the link stopped commanding: operator disable, other causes)
     select_target --nothing_there--> nothing_there --released--> wait_for_diver   (shake, STATUSTEXT, no motion)
-    nothing_there --insisted--> confirm_point   (the arm kept raised after the shake: one fresh look per point)
+    nothing_there --insisted--> confirm_point   (with behaviour.nothing_there_relook_s, off by default: one fresh look per point)
     select_target --second_look--> second_look --looked--> select_target   (a bounded step; diver gone: arm_lost)
     select_target --close_in--> close_in --closer--> select_target   (a far diver: a bounded advance; diver gone: arm_lost)
     every state but idle/stopped --stop_gesture--> stopped   (both wrists above the head >= 1 s: neutral, enable kept)
