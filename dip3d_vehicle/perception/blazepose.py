@@ -10,6 +10,7 @@ rows (``joint_stereo``) and the shoulder placed from the torso (``shoulder_model
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
 from typing import Any, Mapping
@@ -23,6 +24,7 @@ from .calibration import StereoRig
 from .joint_stereo import (JOINT_FLOOR_FACTOR, LIMB_SLACK_M, JointDisparity, in_front_of_body, joint_disparities,
                            head_disparity, limb_spans_m, limb_switches, match_joint_disparity, on_background,
                            subpixel_peak as _subpixel, unmatched_sigma_px)
+from .landmark_smoothing import LandmarkSmoother
 from .pointing_arm import AUTO, pointing_arm
 from .pose import ARM_INDICES, PoseEstimator
 from .shoulder_model import ShoulderOrder, torso_shoulder_disparity
@@ -77,7 +79,8 @@ class BlazePoseEstimator(PoseEstimator):
                  stereo_search: str = "roi", max_disparity_px: float = 400.0,
                  joint_disparity: str = "landmarks", concurrent_eyes: bool = False,
                  disparity_floor_px: float = 1.5, keypoint_sigma_m: float | None = None,
-                 limbs_m: tuple[tuple[float, float], tuple[float, float]] | None = None) -> None:
+                 limbs_m: tuple[tuple[float, float], tuple[float, float]] | None = None,
+                 smoother: LandmarkSmoother | None = None) -> None:
         """Wrap a ``BlazePose``; ``stereo_search`` is "roi" (search along rows) or "detect".
 
         ``arm``: "right", "left", or "auto": in each frame the arm held away from the body
@@ -109,6 +112,10 @@ class BlazePoseEstimator(PoseEstimator):
 
         Keypoints are returned whatever their confidence: the pipeline applies
         ``pose.min_confidence`` (and reports ``pose_low_confidence`` rather than ``no_pose``).
+
+        ``smoother``: smooths the left landmarks over the frames of one track (``landmark_smoothing``; a
+        detected pose starts it again); everything read from the left pose (the arm, the stereo matches,
+        the early arm) then uses the smoothed landmarks, the next ROI the raw ones. None = each frame as found.
         """
         if arm not in ARM_INDICES and arm != AUTO:
             raise ValueError(f"arm must be one of {sorted(ARM_INDICES)} or {AUTO!r}, not {arm!r}")
@@ -126,6 +133,7 @@ class BlazePoseEstimator(PoseEstimator):
         self.disparity_floor_px = float(disparity_floor_px)
         self.keypoint_sigma_m = None if keypoint_sigma_m is None else float(keypoint_sigma_m)
         self.limbs_m = limbs_m
+        self.smoother = smoother
         self._body_disparity_px: float | None = None
         self._side: tuple[PoseLandmarks, str] | None = None   # with "auto": the last left pose's arm
         self._order = ShoulderOrder()   # the shoulders' depth order over the latest frames
@@ -143,7 +151,8 @@ class BlazePoseEstimator(PoseEstimator):
                    joint_disparity=params.get("blazepose.joint_disparity", "landmarks"),
                    concurrent_eyes=params.get("blazepose.concurrent_eyes", False),
                    disparity_floor_px=params.get("blazepose.disparity_floor_px", 1.5),
-                   keypoint_sigma_m=params.get("blazepose.keypoint_sigma_m"), limbs_m=limb_spans_m(params))
+                   keypoint_sigma_m=params.get("blazepose.keypoint_sigma_m"), limbs_m=limb_spans_m(params),
+                   smoother=_smoother(params))
 
     def reset(self) -> None:
         """Forget both cameras' tracking state (and, with ``arm="auto"``, the last frame's arm)."""
@@ -151,6 +160,8 @@ class BlazePoseEstimator(PoseEstimator):
         self._side = None
         self._order.reset()
         self._order_of = None
+        if self.smoother is not None:
+            self.smoother.reset()
 
     def arm_of(self, left: PoseLandmarks) -> str:
         """Return the arm read from a left pose: ``arm``, or with "auto" the one pointing (``pointing_arm``)."""
@@ -170,6 +181,7 @@ class BlazePoseEstimator(PoseEstimator):
             self._left.update(left, self.tracking)
         else:  # sequential; after a lost concurrent run the tracked ROI is not tried twice
             left = self.pose.process(left_rect) if both is not None else self._follow(left_rect, self._left)
+            left = self._smoothed(left)
             self._left.update(left, self.tracking)
             right = None
             if left is not None and matched_eye:
@@ -293,12 +305,21 @@ class BlazePoseEstimator(PoseEstimator):
             right = right_job.result()
         if left is None:
             return None, None
+        left = self._smoothed(left)
         self._tell_early(left, disparity, sign)
         if right is None:
             return left, self._right_pose(left_img, right_img, left, sign)
         self.stats.searched += 1
         self.stats.concurrent += 1
         return left, right
+
+    def _smoothed(self, left: PoseLandmarks | None) -> PoseLandmarks | None:
+        """Return the left pose with its landmarks smoothed over the track (unchanged without a smoother)."""
+        if self.smoother is None or left is None:
+            return left
+        if left.detected:   # a new track: not the frames before it
+            self.smoother.reset()
+        return dataclasses.replace(left, xy_px=self.smoother.smooth(left.xy_px, left.roi.size_px))
 
     def _follow(self, image: np.ndarray, track: _Track) -> PoseLandmarks | None:
         """Return the pose in the tracked ROI, or from a fresh detection when there is none.
@@ -360,6 +381,14 @@ _NOSE = 0
 """BlazePose's nose landmark (the head of the stop gesture)."""
 _INDEX_FINGER = {"right": 20, "left": 19}
 """BlazePose's index-finger landmark per arm (the far end of the pointing hand)."""
+
+
+def _smoother(params: Mapping[str, Any]) -> LandmarkSmoother | None:
+    """Return the left landmarks' smoother from ``blazepose.smoothing*`` (None when off)."""
+    if not params.get("blazepose.smoothing", False):
+        return None
+    return LandmarkSmoother(params["blazepose.smoothing_min_cutoff"], params["blazepose.smoothing_beta"],
+                            params["blazepose.smoothing_jump"])
 
 
 def _eye_pool():
