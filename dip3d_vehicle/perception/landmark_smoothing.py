@@ -1,9 +1,10 @@
 """A tracked pose's landmarks smoothed over frames: a One Euro filter (Casiez et al., CHI 2012), per frame.
 
-BlazePose's landmarks jitter from frame to frame, and the jitter grows as the diver shrinks in the image:
-at 4.5-5 m (an arm of ~35 px) the left-image forearm direction moved by a median 0.085 rad between frames
-of a held point, white (lag-1 autocorrelation -0.15), where truth plus 2 px noise moves it by 0.023 rad
-(issue 14). MediaPipe's own video graph smooths its pose landmarks the same way (a One Euro filter on
+BlazePose's landmarks jitter from frame to frame: with the diver at 4.5-5 m (an arm of ~35 px) the arm's
+left-image shoulder-to-wrist direction moved by a median 0.085 rad between frames of a held point, white
+(lag-1 autocorrelation -0.15), where truth plus the scenario's noise moves it by 0.023 rad (issue 14); smoothed
+with the schema's setting, 0.018 rad. Off by default (``blazepose.smoothing``: the missions did not change
+beyond chance, issue 11 session 68). MediaPipe's own video graph smooths its pose landmarks the same way (a One Euro filter on
 landmarks scaled by the body's size); here the filter runs in frames, not seconds (a pose frame carries no
 stamp), and speeds are measured in body sizes (the ROI's side) per frame, so one setting holds at every range.
 """

@@ -1,5 +1,6 @@
 #!/bin/bash
-# bash pixels.sh TREE OUT "KEY=VALUE ..." SPEC...   (SPEC = scenario:seeds)
+# BlazePose-pose missions from a frozen tree, one output file per scenario (skipped when complete):
+#   bash docs/issue11/session68/scripts/pixels.sh TREE OUT "KEY=VALUE ..." SCENARIO:SEEDS ...
 set -u
 tree=$1; out=$2; sets=$3; shift 3
 args=(--set sitl.pose_source=blazepose); for kv in $sets; do args+=(--set "$kv"); done
