@@ -10,9 +10,8 @@ rows (``joint_stereo``) and the shoulder placed from the torso (``shoulder_model
 
 from __future__ import annotations
 
-import dataclasses
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any, Mapping
 
 import cv2
@@ -319,7 +318,7 @@ class BlazePoseEstimator(PoseEstimator):
             return left
         if left.detected:   # a new track: not the frames before it
             self.smoother.reset()
-        return dataclasses.replace(left, xy_px=self.smoother.smooth(left.xy_px, left.roi.size_px))
+        return replace(left, xy_px=self.smoother.smooth(left.xy_px, left.roi.size_px))
 
     def _follow(self, image: np.ndarray, track: _Track) -> PoseLandmarks | None:
         """Return the pose in the tracked ROI, or from a fresh detection when there is none.
