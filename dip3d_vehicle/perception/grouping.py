@@ -19,7 +19,7 @@ from .calibration import StereoRig
 from .triangulation import normalize_q, triangulate
 from .values import Candidates, ObjectCandidate
 
-__all__ = ["group_objects", "objects_of", "split_chain", "extent_m", "MATCH_SIGMA_PX"]
+__all__ = ["group_objects", "objects_of", "split_chain", "extent_m", "target_groups", "MATCH_SIGMA_PX"]
 
 MATCH_SIGMA_PX = 0.3
 """Assumed disparity error of a matched feature, pixels (SIFT on Middlebury: median error 0.1-0.3 px)."""
@@ -37,6 +37,10 @@ cut is 0.010-0.017 (its features gather around the printed shapes), and one of i
 less than 3 times better (sides 0.015-0.059); scene 19's sides: 0.029 and 0.032 against its cut's 0.005. Not asked
 of a cut whose two sides each fit one target (a chain wider than any target is not one): side_by_side seed 1's two
 placards, cut 0.002, one placard's own weakest cut 0.006 (issue 11 session 48)."""
+
+TARGET_DEPTH_GAP_M = 0.3
+"""Objects whose centres' depths differ by more than this (plus twice their combined depth sigma) are never parts of
+one target (``target_groups``): a 0.3 m placard seen edge-on spans at most its own width in depth."""
 
 SPLIT_MAX_FEATURES = 400
 """Chains of more features than this are not looked at for a cut (the eigenvector's cost grows with the cube)."""
@@ -107,6 +111,33 @@ def extent_m(left_px: np.ndarray, depth_m: float, focal_px: float) -> float:
         return 0.0
     hull = cv2.convexHull(np.asarray(left_px, np.float32)).reshape(-1, 2).astype(float)
     return float(np.max(np.linalg.norm(hull[:, None] - hull[None], axis=2))) * depth_m / focal_px
+
+
+def target_groups(objects: list[ObjectCandidate], left_px: np.ndarray, focal_px: float,
+                  max_extent_m: float) -> np.ndarray:
+    """Return a label per object: objects that together could be one target share it (int array, labels 0..K-1).
+
+    Greedy from the object of most features: each unlabelled object joins it while the features' union
+    (``left_px``: the candidates' rectified left pixels) stays at most ``max_extent_m`` across the line of
+    sight and the centres' depths agree (``TARGET_DEPTH_GAP_M`` plus twice their combined sigma).
+    """
+    labels = np.full(len(objects), -1)
+    order = sorted(range(len(objects)), key=lambda i: -len(objects[i].members))
+    label = 0
+    for i in order:
+        if labels[i] >= 0:
+            continue
+        labels[i], members = label, list(objects[i].members)
+        for j in order:
+            if labels[j] >= 0 or abs(float(objects[i].xyz_m[2] - objects[j].xyz_m[2])) > (
+                    TARGET_DEPTH_GAP_M + 2.0 * math.hypot(objects[i].depth_sigma_m, objects[j].depth_sigma_m)):
+                continue
+            union = members + list(objects[j].members)
+            depth_m = float(np.median([objects[i].xyz_m[2], objects[j].xyz_m[2]]))
+            if extent_m(left_px[union], depth_m, focal_px) <= max_extent_m:
+                labels[j], members = label, union
+        label += 1
+    return labels
 
 
 def split_chain(members: np.ndarray, pairs: np.ndarray, left_px: np.ndarray, depth_m: np.ndarray, focal_px: float,

@@ -38,7 +38,7 @@ from .blobs import Blobs
 from .calibration import StereoRig
 from .candidates import HAND_LENGTH_M
 from .evidence import arm_evidence
-from .grouping import MATCH_SIGMA_PX, extent_m, group_objects
+from .grouping import MATCH_SIGMA_PX, extent_m, group_objects, target_groups
 from .joint_stereo import limb_spans_m
 from .pointing_fit import SHAPE_POINTS, ArmModel, _PointingFit, _rays, object_shape
 from .values import Arm3D, ArmKeypoints, Candidates, ObjectCandidate, Selection
@@ -217,8 +217,10 @@ class DefaultSelector(PointingSelector):
     def __init__(self, model: ArmModel = ArmModel(), group_radius_px: float = 20.0, group_radius_m: float = 0.05,
                  min_object_features: int = 3, min_confidence: float = 0.6, object_radius_m: float = 0.15,
                  open_set: OpenSet = OpenSet(), evidence: str = "laplace", evidence_samples: int = 2048,
-                 unrecognised_weight: float = 1.0, target_max_extent_m: float = 0.6) -> None:
+                 unrecognised_weight: float = 1.0, target_max_extent_m: float = 0.6,
+                 prior_per_target: bool = False) -> None:
         self.model, self.open_set = model, open_set
+        self.prior_per_target = prior_per_target
         self.target_max_extent_m = target_max_extent_m
         self.unrecognised_weight = unrecognised_weight
         self.evidence, self.evidence_samples = evidence, evidence_samples
@@ -242,6 +244,7 @@ class DefaultSelector(PointingSelector):
         if not objects:
             return Selection(None, (), np.zeros(0), 0.0, math.inf, self.method, True, 0.0,
                              "no object with enough matched features")
+        n_prior, log_share = self._prior_shares(objects, candidates, rig)
         joints_px = np.c_[arm.left_px[:, 0], (arm.left_px[:, 1] + arm.right_px[:, 1]) / 2.0]  # rows: both eyes
         rays = _rays(joints_px, rig)
         given = arm.keypoint_sigma_m
@@ -257,13 +260,15 @@ class DefaultSelector(PointingSelector):
             idx = np.flatnonzero(allowed)
             kept = [objects[i] for i in idx]
             if self.evidence == "sampled":
-                log_odds[idx] = self._sampled_log_odds(fit, joints_px, arm3d, kept, shapes[idx], rig, len(objects))
+                log_odds[idx] = self._sampled_log_odds(fit, joints_px, arm3d, kept, shapes[idx], rig, n_prior)
             else:
                 costs = fit.costs(_rays(np.array([o.left_px for o in kept]), rig), np.array([o.xyz_m[2] for o in kept]),
                                   np.array([o.depth_sigma_m for o in kept]), shapes[idx])
                 log_odds[idx] = self._log_odds(costs, fit.arm_cost(), kept, arm, arm3d, fit.pointing_sigma_rad,
-                                               len(objects))
-        spot_xyz, spots = self._unrecognised_log_odds(unrecognised, fit, arm, arm3d, objects, candidates, xyz_m, rig)
+                                               n_prior)
+            log_odds[idx] -= log_share[idx]
+        spot_xyz, spots = self._unrecognised_log_odds(unrecognised, fit, arm, arm3d, objects, candidates, xyz_m, rig,
+                                                      n_prior)
         none_log = float(np.logaddexp.reduce(np.r_[0.0, spots]))  # "nothing detected": uniform, or a spot
         top = max(float(log_odds.max()), none_log)
         weights = np.exp(log_odds - top)
@@ -293,9 +298,22 @@ class DefaultSelector(PointingSelector):
         return Selection(best, tuple(objects), post, confidence, float(margin), self.method,
                          confidence < self.min_confidence, float(p_none), spots=spotted)
 
+    def _prior_shares(self, objects: list[ObjectCandidate], candidates: Candidates,
+                      rig: StereoRig) -> tuple[int, np.ndarray]:
+        """Return the number of prior shares (1 - none_prior split evenly) and each object's log part of its share.
+
+        Per object by default: every object one share. With ``prior_per_target`` objects that together could
+        be one target (``target_groups``) split one share: a placard broken into 4 clusters of features by
+        murky water no longer has 4 times the prior of one seen whole (issue 11 session 68, variant_41_15).
+        """
+        if not self.prior_per_target:
+            return len(objects), np.zeros(len(objects))
+        labels = target_groups(objects, candidates.left_px, rig.focal_px, self.target_max_extent_m)
+        return int(labels.max()) + 1, np.log(np.bincount(labels)[labels])
+
     def _unrecognised_log_odds(self, unrecognised: UnrecognisedSource | None, fit: _PointingFit, arm: ArmKeypoints,
                                arm3d: Arm3D, objects: list[ObjectCandidate], candidates: Candidates, xyz_m: np.ndarray,
-                               rig: StereoRig) -> tuple[np.ndarray, np.ndarray]:
+                               rig: StereoRig, n_prior: int) -> tuple[np.ndarray, np.ndarray]:
         """Return the unrecognised things the arm may point at (K, 3; metres) and their log odds against "nothing
         detected" (uniform), (K,).
 
@@ -323,14 +341,14 @@ class DefaultSelector(PointingSelector):
         costs = fit.costs(_rays(blobs.left_px[allowed], rig), blobs.xyz_m[allowed, 2], blobs.depth_sigma_m[allowed],
                           np.zeros((len(kept), SHAPE_POINTS, 3)))
         return blobs.xyz_m[allowed], (self._log_odds(costs, fit.arm_cost(), kept, arm, arm3d, fit.pointing_sigma_rad,
-                                                     max(len(objects), 1)) + math.log(self.unrecognised_weight))
+                                                     n_prior) + math.log(self.unrecognised_weight))
 
     def _sampled_log_odds(self, fit: _PointingFit, joints_px: np.ndarray, arm3d: Arm3D,
                           objects: list[ObjectCandidate], shapes: np.ndarray, rig: StereoRig,
                           n_objects: int) -> np.ndarray:
         """Return each object's log odds against "nothing detected", the evidence averaged over the arm's draws.
 
-        ``n_objects`` is the number of objects in the frame (the prior shares 1 - none_prior among all). A
+        ``n_objects`` is the number of prior shares (1 - none_prior split evenly: ``_prior_shares``). A
         pose model's own landmark error widens the limb lengths, the bend and the pointing spread as in the
         MAP fit (``fit``): drawn as image noise instead (~18 px at 2.5 m), it spreads the draws far wider
         than the pointing density and 2048 draws no longer estimate the evidence (the pointed placard of
@@ -349,7 +367,8 @@ class DefaultSelector(PointingSelector):
                   arm3d: Arm3D, pointing_sigma_rad: float | None = None, n_objects: int | None = None) -> np.ndarray:
         """Return each object's log odds against "nothing detected" (prior x likelihood ratio).
 
-        ``n_objects``: the frame's number of objects, which share the prior (default ``len(objects)``).
+        ``n_objects``: the number of prior shares (1 - none_prior split evenly: ``_prior_shares``; default
+        ``len(objects)``).
 
         "Nothing detected" spreads the target uniformly over ``none_solid_angle_sr``; an object
         concentrates it by the pointing model's density, widened by how well this frame's arm
@@ -460,4 +479,4 @@ def make_selector(params: Mapping) -> PointingSelector:
                            params["selection.min_confidence"], params["selection.object_radius_m"],
                            open_set_from_params(params), params["selection.evidence"],
                            params["selection.evidence_samples"], params["selection.unrecognised_weight"],
-                           params["selection.target_max_extent_m"])
+                           params["selection.target_max_extent_m"], params["selection.prior_per_target"])

@@ -117,3 +117,38 @@ def test_an_obliquely_seen_placard_broken_around_its_plain_middle_is_one_object_
     behind = placard(0.1, side_m=0.15, seed=6) + [0.0, 0.0, 1.3 - Z_M]
     cands, xyz = candidates_of(np.vstack([placard(0.0, side_m=0.15, seed=7) + [0.0, 0.0, 1.0 - Z_M], behind]))
     assert len(group_objects(cands, xyz, RIG, 20.0, 0.05, 3, surface_slope=2.0)) == 2
+
+
+def test_a_placard_in_four_clusters_holds_one_prior_share_per_target_not_four():
+    """Two placards 8 deg either side of the arm, equal distances: one seen whole, one broken into 4 clusters.
+
+    One prior share per object (the default) gives the broken placard 4 shares and it outweighs the whole one
+    ~4 to 1 at equal angles (variant_41_15 in murky water, issue 11 session 68: the decoy led though 16 deg
+    from the arm against the pointed placard's 5). With ``selection.prior_per_target`` its 4 clusters split
+    one share: neither placard outweighs the other by more than 2 to 1.
+    """
+    arm, u = _arm_right()
+    shoulder = np.array([-0.4, 0.0, 2.5])
+    rng = np.random.default_rng(1)
+
+    def towards(deg: float) -> np.ndarray:
+        """Return the point 2.2 m from the shoulder, ``deg`` from the arm in the image plane, metres."""
+        a = np.radians(deg)
+        return shoulder + 2.2 * np.array([np.cos(a) * u[0] - np.sin(a) * u[1], np.sin(a) * u[0] + np.cos(a) * u[1], 0])
+
+    def square(centre: np.ndarray, side_m: float, n: int) -> np.ndarray:
+        """Return ``n`` features scattered on a square facing the camera, metres."""
+        return centre + np.c_[rng.uniform(-side_m / 2, side_m / 2, (n, 2)), np.zeros(n)]
+
+    whole = square(towards(8.0), 0.3, 80)
+    corners = [(-0.12, -0.12), (0.12, -0.12), (-0.12, 0.12), (0.12, 0.12)]
+    broken = np.vstack([square(towards(-8.0) + [dx, dy, 0.0], 0.06, 12) for dx, dy in corners])
+    owner = np.r_[np.zeros(len(whole), int), np.ones(len(broken), int)]
+    ratios = {}
+    for per_target in (False, True):
+        sel, _, _ = _select(arm, np.vstack([whole, broken]), **{"selection.prior_per_target": per_target})
+        of = np.array([np.median(owner[list(o.members)]) for o in sel.objects])
+        assert sorted(of.tolist()) == [0, 1, 1, 1, 1]
+        ratios[per_target] = float(sel.scores[of == 1].sum() / sel.scores[of == 0].sum())
+    assert ratios[False] > 3.0
+    assert 0.5 < ratios[True] < 2.0
