@@ -1,4 +1,6 @@
-"""Experiment (not landed): the default selector's prior shared per TARGET, not per cluster of features.
+"""Experiment (session 68; landed in session 69 as ``selection.prior_per_target``, ``grouping.target_groups``, which
+gives the same per-frame output): the default selector's prior shared per TARGET, not per cluster of features.
+Kept as the record of what session 68 measured, on trees that predate the parameter.
 
 A placard split into K clusters gets K prior shares today (``OpenSet.log_prior(n_objects)`` per object), and the
 frame's and the fusion's fragments add up: in murky water ``variant_41_15``'s far placard 1 came as 4 clusters and
