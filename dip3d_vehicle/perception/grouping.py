@@ -121,22 +121,23 @@ def target_groups(objects: list[ObjectCandidate], left_px: np.ndarray, focal_px:
     (``left_px``: the candidates' rectified left pixels) stays at most ``max_extent_m`` across the line of
     sight and the centres' depths agree (``TARGET_DEPTH_GAP_M`` plus twice their combined sigma).
     """
+    z = np.array([o.xyz_m[2] for o in objects], float)
+    sigma = np.array([o.depth_sigma_m for o in objects], float)
+    first_px = np.array([left_px[o.members[0]] for o in objects], float).reshape(-1, 2)
     labels = np.full(len(objects), -1)
-    order = sorted(range(len(objects)), key=lambda i: -len(objects[i].members))
-    label = 0
-    for i in order:
-        if labels[i] >= 0:
-            continue
+    order = np.array(sorted(range(len(objects)), key=lambda i: -len(objects[i].members)), int)
+    for label, i in enumerate(k for k in order if labels[k] < 0):
         labels[i], members = label, list(objects[i].members)
-        for j in order:
-            if labels[j] >= 0 or abs(float(objects[i].xyz_m[2] - objects[j].xyz_m[2])) > (
-                    TARGET_DEPTH_GAP_M + 2.0 * math.hypot(objects[i].depth_sigma_m, objects[j].depth_sigma_m)):
+        depth_m = 0.5 * (z[i] + z[order])
+        # cheap tests first: depths that disagree, or two of the union's features already spanning too far
+        near = (np.abs(z[order] - z[i]) <= TARGET_DEPTH_GAP_M + 2.0 * np.hypot(sigma[i], sigma[order])) & (
+            np.linalg.norm(first_px[order] - first_px[i], axis=1) * depth_m / focal_px <= max_extent_m)
+        for j, d in zip(order[near].tolist(), depth_m[near].tolist()):
+            if labels[j] >= 0:
                 continue
             union = members + list(objects[j].members)
-            depth_m = float(np.median([objects[i].xyz_m[2], objects[j].xyz_m[2]]))
-            if extent_m(left_px[union], depth_m, focal_px) <= max_extent_m:
+            if extent_m(left_px[union], d, focal_px) <= max_extent_m:
                 labels[j], members = label, union
-        label += 1
     return labels
 
 
