@@ -7,7 +7,7 @@ import pytest
 
 from dip3d_vehicle.perception.grouping import extent_m, group_objects
 
-from test_selection import RIG, _arm_right, _select, candidates_of
+from test_selection import RIG, _arm_right, _select, candidates_of, cluster
 
 Z_M = 2.6
 
@@ -129,20 +129,16 @@ def test_a_placard_in_four_clusters_holds_one_prior_share_per_target_not_four():
     """
     arm, u = _arm_right()
     shoulder = np.array([-0.4, 0.0, 2.5])
-    rng = np.random.default_rng(1)
 
     def towards(deg: float) -> np.ndarray:
         """Return the point 2.2 m from the shoulder, ``deg`` from the arm in the image plane, metres."""
         a = np.radians(deg)
         return shoulder + 2.2 * np.array([np.cos(a) * u[0] - np.sin(a) * u[1], np.sin(a) * u[0] + np.cos(a) * u[1], 0])
 
-    def square(centre: np.ndarray, side_m: float, n: int) -> np.ndarray:
-        """Return ``n`` features scattered on a square facing the camera, metres."""
-        return centre + np.c_[rng.uniform(-side_m / 2, side_m / 2, (n, 2)), np.zeros(n)]
-
-    whole = square(towards(8.0), 0.3, 80)
+    whole = cluster(towards(8.0), 80, 0.15, seed=1)
     corners = [(-0.12, -0.12), (0.12, -0.12), (-0.12, 0.12), (0.12, 0.12)]
-    broken = np.vstack([square(towards(-8.0) + [dx, dy, 0.0], 0.06, 12) for dx, dy in corners])
+    broken = np.vstack([cluster(towards(-8.0) + [dx, dy, 0.0], 12, 0.03, seed=2 + k)
+                        for k, (dx, dy) in enumerate(corners)])
     owner = np.r_[np.zeros(len(whole), int), np.ones(len(broken), int)]
     ratios = {}
     for per_target in (False, True):
