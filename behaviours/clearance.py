@@ -186,11 +186,12 @@ def _margins(target: np.ndarray, objects: np.ndarray, standoff_m: float, start: 
     return np.min(dist - needed[:, None], axis=0)
 
 
-def _standoffs(standoff_m: float, depth_m: float) -> list[float]:
-    """Return the stand-offs to try: ``standoff_m``, then longer by ``STANDOFF_STEP_M`` up to the target's depth
-    ``depth_m`` (where the camera is: it stops), m."""
-    longer = [standoff_m + k * STANDOFF_STEP_M for k in range(1, int((depth_m - standoff_m) / STANDOFF_STEP_M) + 1)]
-    return [standoff_m] + [s for s in longer if s < depth_m - 1e-9] + ([depth_m] if depth_m > standoff_m else [])
+def _standoffs(standoff_m: float, range_m: float) -> list[float]:
+    """Return the stand-offs to try: ``standoff_m``, then longer by ``STANDOFF_STEP_M`` up to the target's range
+    ``range_m`` (where the camera is: it stops; its depth alone would leave an off-axis target's way ending
+    range x (1 - cos bearing) ahead of the camera), m."""
+    longer = [standoff_m + k * STANDOFF_STEP_M for k in range(1, int((range_m - standoff_m) / STANDOFF_STEP_M) + 1)]
+    return [standoff_m] + [s for s in longer if s < range_m - 1e-9] + ([range_m] if range_m > standoff_m else [])
 
 
 def _narrowed(target: np.ndarray, objects: np.ndarray, start: np.ndarray, way: Way, needed: np.ndarray) -> Way:
@@ -230,7 +231,7 @@ def plan_way(target_xyz, objects_xyz, standoff_m: float, clearance_m: float, beh
 
     Returns:
         The least turned clear way (narrowed to ``ORBIT_REFINE_RAD``) at the shortest stand-off that has one (from
-        ``standoff_m`` up, in ``STANDOFF_STEP_M`` steps, to the target's depth: the vehicle holds short); when not even
+        ``standoff_m`` up, in ``STANDOFF_STEP_M`` steps, to the target's range: the vehicle holds short); when not even
         stopping where it is keeps clear, the direct way ending there (its margin < 0).
 
     Examples:
@@ -254,7 +255,7 @@ def plan_way(target_xyz, objects_xyz, standoff_m: float, clearance_m: float, beh
     def cost(w: Way) -> float:
         """The turn, plus the preference's worth when on the side not chosen before, rad."""
         return abs(w.angle_rad) + (SIDE_PREFERENCE_RAD if side and w.angle_rad * side < 0 else 0.0)
-    standoffs = _standoffs(standoff_m, float(target[2]))
+    standoffs = _standoffs(standoff_m, float(np.linalg.norm(target)))
     for s in standoffs:
         sieved = np.asarray(angles)[_margins(target, objects, s, start, np.asarray(angles), needed) >= -1e-9]
         clear = [w for w in (_way(target, objects, s, start, a, needed) for a in sieved.tolist()) if w.margin_m >= 0]

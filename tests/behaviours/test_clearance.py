@@ -194,9 +194,6 @@ def test_an_extra_margin_keeps_its_object_that_much_further():
     assert way.angle_rad > 0 and way.index == 0 and way.clearance_m >= 0.9 - 1e-9 and way.margin_m >= 0
 
 
-@pytest.mark.xfail(strict=True, reason="issue 11 session 69: the held-short stand-off is capped at the target's "
-                   "depth, not its range, so 'stopping here' ends range x (1 - cos bearing) ahead of an off-axis "
-                   "target's camera (variant_41_03 seed 1: 0.34 m, past a placard at 0.26 m)")
 def test_stopping_where_it_is_ends_at_the_camera_for_a_target_off_the_axis():
     """A target 37 deg right of the camera axis at 2 m, a placard beside the camera: no way keeps clear, so the
     vehicle stops where it is; the way must end at the camera, not 0.4 m ahead of it toward the target."""
