@@ -195,8 +195,8 @@ class SelectTarget(_ArmWatch):
     winner within ``behaviour.select_timeout_s``: the diver farther than ``behaviour.decide_max_range_m``
     -> ``close_in`` (while tries are left and a safe advance exists); a winner that is weak counted as
     one look with the diver farther than ``behaviour.decide_max_range_m`` -> ``close_in`` first
-    (``weak_close_in_step``: the nearer view then decides); else, when the point had no close in, a weak
-    winner takes a second look first if a step keeps it, the strongest other object and the diver in view
+    (``weak_close_in_step``); else, when the point had no second look yet (a close in before it included), a
+    weak winner takes a second look first if a step keeps it, the strongest other object and the diver in view
     (``behaviour.weak_look_again``, ``weak_look_step``), and a weak winner from there that is not the one
     before the step is not acted on (``views_disagree``: undecided, ambiguous at the timeout); two
     objects close at the timeout ->
@@ -319,10 +319,12 @@ class SelectTarget(_ArmWatch):
     def move_before_weak(self, bb: Blackboard, decision: FusedDecision) -> str | None:
         """Return the move to make before acting on a weak object decision ("close_in", "second_look"), or None.
 
-        A weak decision gets one extra view per point. A nearer one (close in; at range the bar is the higher
-        ``behaviour.close_in_one_look``) decides on its own: the arm's depth error is smaller there. A second look
-        (under ``behaviour.close_in_weak_one_look``) is taken from as far: the weak winner is kept on
-        the blackboard (``bb.weak_lean``) and the new view must agree with it (``views_disagree``).
+        A weak decision gets a nearer view (close in; at range the bar is the higher ``behaviour.close_in_one_look``)
+        and one second look per point (under ``behaviour.close_in_weak_one_look``), taken from as far: the weak
+        winner is kept on the blackboard (``bb.weak_lean``) and the new view must agree with it (``views_disagree``).
+        A winner still weak after the close in takes the second look too: from 2.5-3 m its frames still share the
+        arm's error, and fused 0.91 from a one look of 0.53 went to the wrong placard (issue 11 session 69,
+        variant_9_19 seed 2, zoom off, one prior share per target).
         """
         c = bb.config
         advance = self.weak_close_in_step(bb, decision)
@@ -331,8 +333,8 @@ class SelectTarget(_ArmWatch):
             return "close_in"
         if not c.weak_look_again or not is_weak(decision, c.close_in_weak_one_look):
             return None
-        if bb.weak_lean is not None or bb.close_ins:
-            return None  # the point had its extra view already: a second look or a nearer one
+        if bb.weak_lean is not None:
+            return None  # the point had its second look already
         step = self.weak_look_step(bb, decision)
         if step is None:
             return None

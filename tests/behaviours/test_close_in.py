@@ -248,9 +248,16 @@ def test_a_weak_decision_at_range_closes_in_first_and_a_clear_or_near_one_decide
     assert any(isinstance(o, StatusText) and "closer before deciding" in o.text for o in m.bb.outbox)
     trig, _ = move_until_trigger(m, _frame(shoulder=(-0.5, -0.3, 3.2), **weak), 2000)
     assert trig == "closer" and m.state == "select_target"
-    fired = feed(m, [_frame(shoulder=(-0.4, -0.3, 2.6), moved_m=step.offset_m, **weak)] * 12 + [None], t0=m.bb.now_s)
-    assert "winner" in fired  # tries used up: the same lean from the new view decides
-    assert m.bb.weak_lean is None and m.bb.second_looks == 0  # the nearer view was the extra one: no second look
+    there = dict(shoulder=(-0.4, -0.3, 2.6), moved_m=step.offset_m, **weak)
+    fired = feed(m, [_frame(**there)] * 12 + [None], t0=m.bb.now_s)
+    assert "second_look" in fired and "winner" not in fired  # close-ins used up, still weak: a second look first
+    look = m.bb.look_step.offset_m
+    assert m.bb.weak_lean.moves == ("second_look",)
+    assert m.bb.weak_lean.xyz_m == pytest.approx(np.array([0.5, 0.1, 2.0]) - np.add(step.offset_m, look))
+    assert move_until_trigger(m, _frame(shoulder=(-0.4, -0.3, 2.6)), 2000)[0] == "looked"
+    moved = tuple(np.add(step.offset_m, look))
+    fired = feed(m, [_frame(**dict(there, moved_m=moved))] * 12 + [None], t0=m.bb.now_s)
+    assert "winner" in fired  # the same lean from the second look's view: acted on
     for shoulder, over in (((-0.4, -0.3, 2.2), {"behaviour.weak_look_again": False}),
                            ((-0.5, -0.3, 3.2), {"behaviour.close_in_weak_one_look": 0.0,
                                                 "behaviour.close_in_one_look": 0.0})):
@@ -376,15 +383,39 @@ def test_a_weak_lean_is_forgotten_with_a_new_point_and_off_by_parameter(rig):
     assert "winner" in fired and m.bb.weak_lean is None  # no second look left: acted on as before
 
 
-def test_after_a_weak_close_in_the_nearer_view_decides_on_its_own(rig):
-    """variant_9_19 seeds 0 and 1: the lean at 3.4 m is the doubtful one; from 2.8 m the arm's depth error
-    is a third smaller, so the nearer view's winner is acted on even when the far lean was elsewhere."""
+def _closed_in(rig):
+    """Return a mission back in ``select_target`` after closing in on a weak lean to o1 at 3.4 m, and the step."""
     m = _close_inengaged_mission(rig, **{"behaviour.select_timeout_s": 30.0})
     enter(m, "select_target")
     assert "close_in" in feed(m, [_frame(shoulder=(-0.5, -0.3, 3.2), scores=(0.58, 0.2), none_p=0.2)] * 12 + [None])
     step = m.bb.close_in_step
     move_until_trigger(m, _frame(shoulder=(-0.5, -0.3, 3.2)), 2000)
-    near = _frame(shoulder=(-0.4, -0.3, 2.6), scores=(0.2, 0.58), none_p=0.2, moved_m=step.offset_m)
+    return m, step
+
+
+def test_after_a_weak_close_in_a_clear_nearer_view_decides_on_its_own(rig):
+    """variant_9_19 seeds 0 and 1: the lean at 3.4 m is the doubtful one; from 2.8 m the arm's depth error
+    is a third smaller, so the nearer view's clear winner is acted on even when the far lean was elsewhere."""
+    m, step = _closed_in(rig)
+    near = _frame(shoulder=(-0.4, -0.3, 2.6), scores=(0.1, 0.8), none_p=0.1, moved_m=step.offset_m)
     fired = feed(m, [near] * 12 + [None], t0=m.bb.now_s)
-    assert "winner" in fired and "second_look" not in fired
+    assert "winner" in fired and "second_look" not in fired and m.bb.decision.one_look >= 0.6
     assert m.bb.chosen.xyz_m == pytest.approx(np.array([0.45, 0.1, 3.0]) - np.array(step.offset_m))
+
+
+def test_after_a_weak_close_in_a_weak_nearer_view_takes_a_second_look_first(rig):
+    """variant_9_19 seed 2 with one prior share per target (issue 11 session 69): from 2.8 m the nearer view leaned
+    to the wrong placard at 0.53 counted as one look, fused 0.91, and the vehicle went there. Still weak after the
+    close in, the winner takes a second look (its lean is the nearer view's; the far lean is forgotten), and a
+    second view leaning elsewhere is not acted on."""
+    m, step = _closed_in(rig)
+    weak_o2 = dict(shoulder=(-0.4, -0.3, 2.6), scores=(0.2, 0.58), none_p=0.2)
+    fired = feed(m, [_frame(moved_m=step.offset_m, **weak_o2)] * 12 + [None], t0=m.bb.now_s)
+    assert "second_look" in fired and "winner" not in fired and m.state == "second_look"
+    moved = tuple(np.add(step.offset_m, m.bb.look_step.offset_m))
+    assert m.bb.weak_lean.moves == ("second_look",)  # the farther placard, where the nearer view leaned
+    assert m.bb.weak_lean.xyz_m == pytest.approx(np.array([0.45, 0.1, 3.0]) - np.array(moved))
+    assert move_until_trigger(m, _frame(shoulder=(-0.4, -0.3, 2.6)), 2000)[0] == "looked"
+    other = _frame(shoulder=(-0.4, -0.3, 2.6), scores=(0.58, 0.2), none_p=0.2, moved_m=moved)  # o1 leads from there
+    fired = feed(m, [other] * 12 + [None], t0=m.bb.now_s)
+    assert "winner" not in fired and m.bb.decided == deque()
