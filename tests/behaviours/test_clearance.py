@@ -196,7 +196,9 @@ def test_an_extra_margin_keeps_its_object_that_much_further():
 
 def test_stopping_where_it_is_ends_at_the_camera_for_a_target_off_the_axis():
     """A target 37 deg right of the camera axis at 2 m, a placard beside the camera: no way keeps clear, so the
-    vehicle stops where it is; the way must end at the camera, not 0.4 m ahead of it toward the target."""
+    vehicle stops where it is; the way must end at the camera, not 0.4 m ahead of it toward the target (until
+    issue 11 session 70 the stand-off was capped at the target's depth: variant_41_03 seed 1 went 0.34 m on and
+    passed a placard at 0.26 m)."""
     target = np.array([1.2, 0.0, 1.6])
     step = sidestep(target, [[0.3, 0.0, 0.0]], 1.0, 0.6, 0.3, behind_m=0.5)
     assert not step.clear
