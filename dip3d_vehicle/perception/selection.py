@@ -218,7 +218,7 @@ class DefaultSelector(PointingSelector):
                  min_object_features: int = 3, min_confidence: float = 0.6, object_radius_m: float = 0.15,
                  open_set: OpenSet = OpenSet(), evidence: str = "laplace", evidence_samples: int = 2048,
                  unrecognised_weight: float = 1.0, target_max_extent_m: float = 0.6,
-                 prior_per_target: bool = False) -> None:
+                 prior_per_target: bool = True) -> None:
         self.model, self.open_set = model, open_set
         self.prior_per_target = prior_per_target
         self.target_max_extent_m = target_max_extent_m
@@ -302,9 +302,10 @@ class DefaultSelector(PointingSelector):
                       rig: StereoRig) -> tuple[int, np.ndarray]:
         """Return the number of prior shares (1 - none_prior split evenly) and each object's log part of its share.
 
-        Without ``prior_per_target`` (the default) every object has one share. With it, objects that together
-        could be one target (``target_groups``) split one share: a placard broken into 4 clusters of features by
-        murky water no longer has 4 times the prior of one seen whole (issue 11 sessions 68-69, variant_41_15).
+        With ``prior_per_target`` (the default since issue 11 session 70) objects that together could be one target
+        (``target_groups``) split one share: a placard broken into 4 clusters of features by murky water no longer
+        has 4 times the prior of one seen whole (issue 11 sessions 68-69, variant_41_15); without, every object has
+        one share.
         """
         if not self.prior_per_target:
             return len(objects), np.zeros(len(objects))

@@ -122,10 +122,11 @@ def test_an_obliquely_seen_placard_broken_around_its_plain_middle_is_one_object_
 def test_a_placard_in_four_clusters_holds_one_prior_share_per_target_not_four():
     """Two placards 8 deg either side of the arm, equal distances: one seen whole, one broken into 4 clusters.
 
-    One prior share per object (the default) gives the broken placard 4 shares and it outweighs the whole one
-    ~4 to 1 at equal angles (variant_41_15 in murky water, issue 11 session 68: the decoy led though 16 deg
-    from the arm against the pointed placard's 5). With ``selection.prior_per_target`` its 4 clusters split
-    one share: neither placard outweighs the other by more than 2 to 1.
+    One prior share per object (``selection.prior_per_target`` false, the default until issue 11 session 70)
+    gives the broken placard 4 shares and it outweighs the whole one ~4 to 1 at equal angles (variant_41_15 in
+    murky water, session 68: the decoy led though 16 deg from the arm against the pointed placard's 5). One
+    share per target (the default) splits one share among its 4 clusters: neither placard outweighs the other
+    by more than 2 to 1.
     """
     arm, u = _arm_right()
     shoulder = np.array([-0.4, 0.0, 2.5])
