@@ -232,22 +232,28 @@ def test_a_steady_lean_of_a_pose_with_its_own_error_is_not_made_certain_by_repet
     assert not clear.shared_error and clear.frames == []
 
 
+def _closed_in(rig):
+    """Return a mission back in ``select_target`` after closing in on a weak lean to o1 at 3.4 m, and the step."""
+    m = _close_inengaged_mission(rig, **{"behaviour.select_timeout_s": 30.0})
+    enter(m, "select_target")
+    fired = feed(m, [_frame(shoulder=(-0.5, -0.3, 3.2), scores=(0.58, 0.2), none_p=0.2)] * 12 + [None])
+    assert "close_in" in fired and "winner" not in fired and m.state == "close_in"
+    step = m.bb.close_in_step
+    trig, _ = move_until_trigger(m, _frame(shoulder=(-0.5, -0.3, 3.2)), 2000)
+    assert trig == "closer" and m.state == "select_target"
+    return m, step
+
+
 # ----------------------------------------------------------------------------- a weak decision at range
 def test_a_weak_decision_at_range_closes_in_first_and_a_clear_or_near_one_decides(rig):
     """variant_9_19 seed 2 (issue 11 session 26): a diver at 3.4 m, a lean of ~0.5 counted as one look on
     the wrong placard; closing in first to 2.5 m (``behaviour.decide_max_range_m``) let the point decide the
     pointed one."""
     weak = dict(scores=(0.58, 0.2), none_p=0.2)
-    m = _close_inengaged_mission(rig, **{"behaviour.select_timeout_s": 30.0})
-    enter(m, "select_target")
-    fired = feed(m, [_frame(shoulder=(-0.5, -0.3, 3.2), **weak)] * 12 + [None])
-    assert "close_in" in fired and "winner" not in fired and m.state == "close_in"
+    m, step = _closed_in(rig)
     assert m.bb.decision.kind == "object" and m.bb.decision.one_look < 0.6
-    step = m.bb.close_in_step
     assert step.range_before_m > 2.5 and step.range_after_m >= 2.5 - 1e-9
     assert any(isinstance(o, StatusText) and "closer before deciding" in o.text for o in m.bb.outbox)
-    trig, _ = move_until_trigger(m, _frame(shoulder=(-0.5, -0.3, 3.2), **weak), 2000)
-    assert trig == "closer" and m.state == "select_target"
     there = dict(shoulder=(-0.4, -0.3, 2.6), moved_m=step.offset_m, **weak)
     fired = feed(m, [_frame(**there)] * 12 + [None], t0=m.bb.now_s)
     assert "second_look" in fired and "winner" not in fired  # close-ins used up, still weak: a second look first
@@ -381,16 +387,6 @@ def test_a_weak_lean_is_forgotten_with_a_new_point_and_off_by_parameter(rig):
     assert "winner" in fired and "second_look" not in fired and m.bb.weak_lean is None
     m, fired = _weak_second_look(rig, **{"behaviour.second_look_max_tries": 0})
     assert "winner" in fired and m.bb.weak_lean is None  # no second look left: acted on as before
-
-
-def _closed_in(rig):
-    """Return a mission back in ``select_target`` after closing in on a weak lean to o1 at 3.4 m, and the step."""
-    m = _close_inengaged_mission(rig, **{"behaviour.select_timeout_s": 30.0})
-    enter(m, "select_target")
-    assert "close_in" in feed(m, [_frame(shoulder=(-0.5, -0.3, 3.2), scores=(0.58, 0.2), none_p=0.2)] * 12 + [None])
-    step = m.bb.close_in_step
-    move_until_trigger(m, _frame(shoulder=(-0.5, -0.3, 3.2)), 2000)
-    return m, step
 
 
 def test_after_a_weak_close_in_a_clear_nearer_view_decides_on_its_own(rig):
