@@ -21,12 +21,18 @@ def totals(runs: dict) -> str:
     return f"{n['arrived']} / {n['wrong']} / {n['abstained']} ({len(runs)})"
 
 
-before, after = load(sys.argv[1]), load(sys.argv[2])
-common = sorted(set(before) & set(after))
-print("before", totals({k: before[k] for k in common}), " after", totals({k: after[k] for k in common}))
-for k in common:
-    a, b = before[k], after[k]
-    if (a["outcome"], a.get("chosen_id")) != (b["outcome"], b.get("chosen_id")):
-        print(k, a["outcome"], a.get("chosen_id"), "->", b["outcome"], b.get("chosen_id"),
-              "| posterior", a.get("decision_posterior"), "->", b.get("decision_posterior"),
-              "| nothing there", a["nothing_there"], "->", b["nothing_there"])
+def main(before_dirs: str, after_dirs: str) -> None:
+    """Print both campaigns' totals over their common runs, then each run whose outcome or placard changed."""
+    before, after = load(before_dirs), load(after_dirs)
+    common = sorted(set(before) & set(after))
+    print("before", totals({k: before[k] for k in common}), " after", totals({k: after[k] for k in common}))
+    for k in common:
+        a, b = before[k], after[k]
+        if (a["outcome"], a.get("chosen_id")) != (b["outcome"], b.get("chosen_id")):
+            print(k, a["outcome"], a.get("chosen_id"), "->", b["outcome"], b.get("chosen_id"),
+                  "| posterior", a.get("decision_posterior"), "->", b.get("decision_posterior"),
+                  "| nothing there", a["nothing_there"], "->", b["nothing_there"])
+
+
+if __name__ == "__main__":
+    main(sys.argv[1], sys.argv[2])
