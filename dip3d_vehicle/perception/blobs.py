@@ -300,14 +300,18 @@ def _apart_from(match: tuple[float, float, float], on_object: tuple[float, int, 
 
     ``match``: the spot's row match (disparity, sigma, score); ``on_object``: ``_on_object``'s reading.
     Its own thing: its best row match lies clearly off the object's disparity extrapolated to it, and the
-    patch scores clearly worse there (a placard's edge matched on a repeat of itself is sharp too).
+    patch scores clearly worse there (a placard's edge matched on a repeat of itself is sharp too). When the
+    object's disparity puts the patch off the right image (no score there), it cannot be shown apart and stays
+    the object's: its true match is out of sight, so any match in sight is another patch's (issue 11 session 71:
+    variant_43_06 from pixels, placard 2's edge 104 px from the left border at 106 px disparity, matched at 60
+    and 10 px to points 0.8 and 10 m behind it, took half the pointed placard's probability in every frame).
     """
     if on_object is None:
         return True
     d_obj, spread, at = on_object
     if abs(match[0] - d_obj) <= spread + 1:
         return False
-    return at is None or match[2] - at >= BESIDE_SCORE_MARGIN
+    return at is not None and match[2] - at >= BESIDE_SCORE_MARGIN
 
 
 def wedge_offset(poly: np.ndarray, px: np.ndarray) -> np.ndarray:

@@ -1,5 +1,5 @@
 """Per-frame dissection of the default selector in one mission (arm, objects, costs, log odds) between T0 and T1 s:
-    python docs/issue11/session58/scripts/dissect.py SCENARIO SEED T0 T1"""
+    python docs/issue11/session58/scripts/dissect.py SCENARIO SEED T0 T1 [KEY=VALUE ...]"""
 import sys, math
 import numpy as np
 import dip3d_vehicle.perception.selection as sel
@@ -31,6 +31,6 @@ def fuse(bb, result, direction):
 ps._fuse_frame = fuse
 # note: the selector runs before _fuse_frame of the same frame; stamp lags by one frame at most
 import runpy
-sys.argv = ["story", sys.argv[1], sys.argv[2]]
+sys.argv = ["story", sys.argv[1], sys.argv[2], *sys.argv[5:]]
 import os
 runpy.run_path(os.path.join(os.path.dirname(os.path.abspath(__file__)), "story.py"), run_name="__main__")
