@@ -199,8 +199,9 @@ class SelectTarget(_ArmWatch):
     weak winner takes a second look first if a step keeps it, the strongest other object and the diver in view
     (``behaviour.weak_look_again``, ``weak_look_step``), and a weak winner from there that is not the one
     before the step is not acted on (``views_disagree``: undecided, ambiguous at the timeout); two
-    objects close at the timeout ->
-    ``second_look`` (while tries are left and a step separates them); else ``ambiguous``.
+    objects close at the timeout -> ``second_look`` (while tries are left and a step separates them); one
+    object close to "nothing detected" at the timeout -> ``second_look`` (a step that shows the arm more from
+    the side: ``arm_view_step``); else ``ambiguous``.
     """
 
     name = "select_target"
@@ -413,14 +414,38 @@ class SelectTarget(_ArmWatch):
         return True
 
     def look_step(self, bb: Blackboard, decision: FusedDecision) -> LookStep | None:
-        """Return the second look's step when two objects are close and a step separates them, else None."""
+        """Return the second look's step when the two leading hypotheses are close and a step helps, else None.
+
+        Two objects: the step that separates them. An object against "nothing detected": the step that shows
+        the line from the diver's wrist to it most from the side (``arm_view_step``).
+        """
         c, post = bb.config, decision.posterior
-        if bb.second_looks >= c.second_look_max_tries or decision.second is None or NONE in (decision.best,
-                                                                                              decision.second):
+        if bb.second_looks >= c.second_look_max_tries or decision.second is None:
             return None
         if min(post[decision.best], post[decision.second]) < c.second_look_min_p:
             return None
-        return self.separating_step(bb, decision.best, decision.second)
+        if NONE not in (decision.best, decision.second):
+            return self.separating_step(bb, decision.best, decision.second)
+        return self.arm_view_step(bb, decision.second if decision.best == NONE else decision.best)
+
+    def arm_view_step(self, bb: Blackboard, key: str) -> LookStep | None:
+        """Return the step that opens the angle between the diver's wrist and object ``key`` most, or None.
+
+        Split between one object and "nothing detected", a point rests on the arm's tilt toward the camera
+        (the stereo depth of its joints); seen more from the side, the line from the wrist to the object is
+        longer in the image and that tilt counts for less. The object and the diver stay in view; None when no
+        step opens the angle by 0.01 rad (issue 11 session 71: variant_43_10 from pixels, the pointed placard
+        against "nothing" at 0.6 / 0.4 over 146 frames and four rounds, the vehicle never moving).
+        """
+        c, arm3d = bb.config, self.last_arm3d
+        obj = bb.fusion.hypothesis(key)
+        if arm3d is None or obj is None:
+            return None
+        step = plan_second_look(obj.xyz_m, arm3d.xyz_m[2], arm3d.xyz_m[[0, 2]], c.second_look_step_m,
+                                bb.servo.focal_px, bb.servo.principal_point_px, c.second_look_margin_px)
+        if step is None:
+            bb.say(f"{key} against nothing detected, but no step keeps all in view and shows the arm more from the side")
+        return step
 
     def separating_step(self, bb: Blackboard, key_a: str, key_b: str, min_gain_rad: float = 0.01) -> LookStep | None:
         """Return the step that best separates two object hypotheses with the diver kept in view, or None.

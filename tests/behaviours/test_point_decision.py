@@ -517,10 +517,26 @@ def test_the_second_look_stops_and_waits_when_the_diver_leaves_the_view(rig):
     assert fired[-1] == "arm_lost" and m.state == "wait_for_diver" and m.bb.command is None
 
 
-def test_no_second_look_when_nothing_detected_is_one_of_the_two(rig):
-    m = engaged_mission(rig, **{"behaviour.select_timeout_s": 1.0})
+def test_one_object_against_nothing_detected_at_the_timeout_takes_a_second_look_that_shows_the_arm_from_the_side(rig):
+    """Split between one object and "nothing detected", the point rests on the arm's tilt toward the camera: a step
+    that opens the angle between the wrist and the object (issue 11 session 71: variant_43_10 from pixels, 0.6 / 0.4
+    over four rounds with the vehicle never moving). Once the tries are used up it is ambiguous, as before."""
+    m = engaged_mission(rig, **{"behaviour.select_timeout_s": 1.0, "behaviour.second_look_max_tries": 1,
+                                "behaviour.second_look_step_m": 0.3, "behaviour.second_look_speed_m_s": 0.15,
+                                "behaviour.second_look_settle_s": 0.6})
+    split = _frame({0.3: 0.45}, 0.55)
     enter(m, "select_target")
-    fired = _feed(m, [_frame({0.3: 0.45}, 0.55)] * 5 + [None])
+    fired = _feed(m, [split] * 5 + [None])
+    assert fired[-1] == "second_look" and m.state == "second_look" and m.bb.second_looks == 1
+    step = m.bb.look_step
+    wrist, obj = _arm(True, False)[1].xyz_m[2], np.array([0.3, 0.0, 3.0])
+    assert step.after_rad > step.before_rad + 0.01  # the wrist and the object seen farther apart
+    trig, cmds = move_until_trigger(m, split, 200)
+    moving = [c for c in cmds if c is not None]
+    assert trig == "looked" and moving and all(c.surge_m_s == 0 and c.yaw_rate_rad_s == 0 for c in moving)
+    from behaviours.second_look import separation_rad
+    assert step.before_rad == pytest.approx(separation_rad(obj, wrist))
+    fired = _feed(m, [split] * 5 + [None], t0=m.bb.now_s)  # tries used up: back to confirm_point
     assert "ambiguous" in fired and "second_look" not in fired and m.state == "confirm_point"
 
 
