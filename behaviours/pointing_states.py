@@ -437,29 +437,34 @@ class SelectTarget(_ArmWatch):
         step opens the angle by 0.01 rad (issue 11 session 71: variant_43_10 from pixels, the pointed placard
         against "nothing" at 0.6 / 0.4 over 146 frames and four rounds, the vehicle never moving).
         """
-        c, arm3d = bb.config, self.last_arm3d
         obj = bb.fusion.hypothesis(key)
-        if arm3d is None or obj is None:
+        if self.last_arm3d is None or obj is None:
             return None
-        step = plan_second_look(obj.xyz_m, arm3d.xyz_m[2], arm3d.xyz_m[[0, 2]], c.second_look_step_m,
-                                bb.servo.focal_px, bb.servo.principal_point_px, c.second_look_margin_px)
-        if step is None:
-            bb.say(f"{key} against nothing detected, but no step keeps all in view and shows the arm more from the side")
-        return step
+        return self._step_apart(bb, obj.xyz_m, self.last_arm3d.xyz_m[2], 0.01,
+                                f"{key} against nothing detected, but no step keeps all in view and shows the arm "
+                                f"more from the side")
 
     def separating_step(self, bb: Blackboard, key_a: str, key_b: str, min_gain_rad: float = 0.01) -> LookStep | None:
         """Return the step that best separates two object hypotheses with the diver kept in view, or None.
 
         None also when no step opens their separation by ``min_gain_rad`` (radians).
         """
-        c, arm3d = bb.config, self.last_arm3d
         a, b = bb.fusion.hypothesis(key_a), bb.fusion.hypothesis(key_b)
-        if arm3d is None or a is None or b is None:
+        if self.last_arm3d is None or a is None or b is None:
             return None
-        step = plan_second_look(a.xyz_m, b.xyz_m, arm3d.xyz_m[[0, 2]], c.second_look_step_m, bb.servo.focal_px,
+        return self._step_apart(bb, a.xyz_m, b.xyz_m, min_gain_rad,
+                                f"{key_a} and {key_b} close, but no step keeps all in view and separates them")
+
+    def _step_apart(self, bb: Blackboard, a_xyz: np.ndarray, b_xyz: np.ndarray, min_gain_rad: float,
+                    why_none: str) -> LookStep | None:
+        """Return the step that opens the angle between two points (camera frame, metres) most, both and the diver
+        (``last_arm3d``'s shoulder and wrist) kept in view, or None (saying ``why_none``) when none opens it by
+        ``min_gain_rad`` (radians)."""
+        c = bb.config
+        step = plan_second_look(a_xyz, b_xyz, self.last_arm3d.xyz_m[[0, 2]], c.second_look_step_m, bb.servo.focal_px,
                                 bb.servo.principal_point_px, c.second_look_margin_px, min_gain_rad)
         if step is None:
-            bb.say(f"{key_a} and {key_b} close, but no step keeps all in view and separates them")
+            bb.say(why_none)
         return step
 
 
