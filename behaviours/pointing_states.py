@@ -21,7 +21,7 @@ from .close_in import CloseInStep, horizontal_range_m, plan_close_in
 from .evidence import VoteBox, angular_spread_rad, image_direction
 from .fusion import NONE, FrameEvidence, FusedDecision, Hypothesis, PointFusion
 from .mission_state import MissionState, arm_raised, new_result
-from .second_look import LookStep, plan_second_look
+from .second_look import MIN_GAIN_RAD, LookStep, plan_second_look
 from .weak_lean import WeakLean, is_weak, two_view_p
 
 __all__ = ["WaitForDiver", "ConfirmPoint", "SelectTarget", "SecondLook", "CloseIn"]
@@ -434,17 +434,18 @@ class SelectTarget(_ArmWatch):
         Split between one object and "nothing detected", a point rests on the arm's tilt toward the camera
         (the stereo depth of its joints); seen more from the side, the line from the wrist to the object is
         longer in the image and that tilt counts for less. The object and the diver stay in view; None when no
-        step opens the angle by 0.01 rad (issue 11 session 71: variant_43_10 from pixels, the pointed placard
+        step opens the angle by ``MIN_GAIN_RAD`` (issue 11 session 71: variant_43_10 from pixels, the pointed placard
         against "nothing" at 0.6 / 0.4 over 146 frames and four rounds, the vehicle never moving).
         """
         obj = bb.fusion.hypothesis(key)
         if self.last_arm3d is None or obj is None:
             return None
-        return self._step_apart(bb, obj.xyz_m, self.last_arm3d.xyz_m[2], 0.01,
+        return self._step_apart(bb, obj.xyz_m, self.last_arm3d.xyz_m[2], MIN_GAIN_RAD,
                                 f"{key} against nothing detected, but no step keeps all in view and shows the arm "
                                 f"more from the side")
 
-    def separating_step(self, bb: Blackboard, key_a: str, key_b: str, min_gain_rad: float = 0.01) -> LookStep | None:
+    def separating_step(self, bb: Blackboard, key_a: str, key_b: str,
+                        min_gain_rad: float = MIN_GAIN_RAD) -> LookStep | None:
         """Return the step that best separates two object hypotheses with the diver kept in view, or None.
 
         None also when no step opens their separation by ``min_gain_rad`` (radians).

@@ -18,11 +18,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["LookStep", "separation_rad", "plan_second_look", "STEPS"]
+__all__ = ["LookStep", "separation_rad", "plan_second_look", "STEPS", "MIN_GAIN_RAD"]
 
 STEPS: dict[str, tuple[float, float, float]] = {"right": (1.0, 0.0, 0.0), "left": (-1.0, 0.0, 0.0),
                                                  "down": (0.0, 1.0, 0.0), "up": (0.0, -1.0, 0.0)}
 """The candidate step directions (camera frame)."""
+
+MIN_GAIN_RAD = 0.01
+"""A step must open the angle it is chosen for by at least this much (radians) to be worth taking."""
 
 
 @dataclass(frozen=True)
@@ -61,7 +64,7 @@ def _in_view(points: np.ndarray, focal_px: float, principal_px: tuple[float, flo
 
 
 def plan_second_look(a_xyz, b_xyz, keep_xyz, step_m: float, focal_px: float, principal_px: tuple[float, float],
-                     margin_px: float = 60.0, min_gain_rad: float = 0.01) -> LookStep | None:
+                     margin_px: float = 60.0, min_gain_rad: float = MIN_GAIN_RAD) -> LookStep | None:
     """Return the step that separates a and b most with everything kept in view, or None.
 
     Args:
