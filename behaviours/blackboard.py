@@ -132,6 +132,7 @@ class BehaviourConfig:
     stop_gesture: bool = True
     stop_gesture_hold_s: float = 1.0
     stop_gesture_margin_px: float = 5.0
+    stop_gesture_margin_m: float = 0.1
     stop_gesture_gap_s: float = 0.5
     standoff_m: float = 1.0
     statustext: bool = True

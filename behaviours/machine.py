@@ -119,7 +119,8 @@ class Mission:
                                before_state_change="_leave", after_state_change="_arrive")
         self.behaviours["idle"].enter(bb)
         self.stop_watch = StopGestureWatch(bb.config.stop_gesture_hold_s, bb.config.stop_gesture_margin_px,
-                                           bb.config.stop_gesture_gap_s)
+                                           bb.config.stop_gesture_gap_s, bb.config.stop_gesture_margin_m,
+                                           abs(bb.tracker.rig.baseline_m))
 
     @property
     def needs(self) -> str:

@@ -108,7 +108,9 @@ def stop_trial(args: tuple) -> dict:
         arm = None
         if truth is not None:
             arm = GivenKeypoints(sim.params["pose.arm"], truth).estimate(None, None, rig)
-        seen.append((float(frame.stamp_s), stop_gesture_seen(arm, float(sim.params["behaviour.stop_gesture_margin_px"]))))
+        seen.append((float(frame.stamp_s), stop_gesture_seen(arm, float(sim.params["behaviour.stop_gesture_margin_px"]),
+                                                             float(sim.params["behaviour.stop_gesture_margin_m"]),
+                                                             abs(rig.baseline_m))))
         in_view.append(truth is not None)
         before(frame)
 

@@ -465,6 +465,24 @@ def test_stop_gesture_needs_both_wrists_above_the_head():
     assert not stop_gesture_seen(stop, margin_px=200.0)
 
 
+def test_stop_gesture_needs_the_wrists_a_margin_in_metres_above_the_head_at_the_wrists_depth(rig):
+    """A pose model shown only part of a diver at the image's edge squeezes every landmark around the head, the
+    wrists a few centimetres "above" it: not a stop. ``margin_m`` at the wrist's depth is ``margin_m`` x disparity
+    / baseline pixels (0.1 m at 80 px of disparity and a 0.12 m baseline: 67 px)."""
+    left = np.array([[470.0, 575.0], [476.0, 550.0], [478.0, 535.0]])  # wrists 25 px above the head
+    squeezed = ArmKeypoints("right", left, left - [80.0, 0.0], np.ones(3), np.ones(3),
+                            extra_left_px={"head": (480.0, 560.0), "other_wrist": (486.0, 538.0)})
+    assert stop_gesture_seen(squeezed, margin_px=5.0)
+    assert not stop_gesture_seen(squeezed, margin_px=5.0, margin_m=0.1, baseline_m=0.12)
+    stop = _arm(stop=True)[0]  # wrists 135-140 px above the head at 30 px of disparity: 25 px asked
+    assert stop_gesture_seen(stop, margin_px=5.0, margin_m=0.1, baseline_m=0.12)
+    assert stop_gesture_seen(squeezed, margin_px=5.0, margin_m=0.1, baseline_m=0.0)  # no baseline: pixels only
+    w = StopGestureWatch(1.0, 5.0, 0.5, margin_m=0.1, baseline_m=0.12)
+    assert not any(w.update(squeezed, 0.2 * k) for k in range(10))
+    m = engaged_mission(rig)
+    assert m.stop_watch.margin_m == pytest.approx(0.1) and m.stop_watch.baseline_m == pytest.approx(abs(rig.baseline_m))
+
+
 def test_stop_gesture_watch_needs_an_unbroken_hold():
     w, stop, down = StopGestureWatch(1.0, gap_s=0.5), _arm(stop=True)[0], _arm()[0]
     assert not any(w.update(stop, 0.2 * k) for k in range(5))  # 0.0 .. 0.8 s
