@@ -47,7 +47,6 @@ class BehaviourConfig:
     folded_arm_rad: float = 0.785
     arm_lost_frames: int = 3
     steady_angle_rad: float = 0.1
-    moved_frames: int = 3
     steady_hold_s: float = 1.0
     confirm_timeout_s: float = 10.0
     vote_frames: int = 4

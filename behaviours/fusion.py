@@ -277,7 +277,6 @@ class PointFusion:
     shared_error: bool = False
     pose_error: bool = False
     direction: np.ndarray | None = None
-    out_of_line: list[np.ndarray] = field(default_factory=list)
     hypotheses: list[Hypothesis] = field(default_factory=list)
     none_log_sum: float = 0.0
     none_led: int = 0
@@ -295,7 +294,6 @@ class PointFusion:
         self.hypotheses, self.none_log_sum, self.none_led, self.frames = [], 0.0, 0, []
         self.spots.clear()
         self.direction = None
-        self.out_of_line = []
         self.shared_error = self.pose_error = False
         self.held_arm.clear()
 

@@ -28,11 +28,10 @@ __all__ = ["WaitForDiver", "ConfirmPoint", "SelectTarget", "SecondLook", "CloseI
 
 
 def _fuse_frame(bb: Blackboard, result, direction) -> FrameEvidence | None:
-    """Add a raised-arm frame to the point's fused evidence; restart it when the pointing moved; return the
-    frame's evidence, or None (held out of line, or no evidence).
+    """Add a raised-arm frame to the point's fused evidence; restart it when the pointing moved.
 
     The point's direction is the mean left-image arm direction of its fused frames; a frame more
-    than ``behaviour.steady_angle_rad`` away from it is out of line (``_line_kept``).
+    than ``behaviour.steady_angle_rad`` away from it starts a new point.
     """
     c = bb.config
     if bb.fusion is None:
@@ -43,8 +42,12 @@ def _fuse_frame(bb: Blackboard, result, direction) -> FrameEvidence | None:
                                 recall_s=c.fusion_recall_s, max_extent_m=c.target_max_extent_m,
                                 spot_support=c.fusion_spot_support)
     fusion = bb.fusion
-    if not _line_kept(bb, fusion, direction):
-        return None
+    if direction is not None and fusion.direction is not None:
+        mean = fusion.direction / max(float(np.linalg.norm(fusion.direction)), 1e-9)
+        if angular_spread_rad([mean, direction]) * 2 > c.steady_angle_rad and fusion.frames:
+            bb.say(f"pointing moved: fused evidence of {len(fusion.frames)} frames restarted")
+            fusion.reset()
+            bb.weak_lean = None
     arm_frames, stamp = 1, bb.observation.stamp_s
     if bb.decide_held is not None and result.arm is not None:
         arm, held = result.arm, c.fusion_arm_frames > 1 and result.status in ("ok", "nothing_on_ray")
@@ -60,34 +63,6 @@ def _fuse_frame(bb: Blackboard, result, direction) -> FrameEvidence | None:
     if part is not None and direction is not None:
         fusion.direction = direction.copy() if fusion.direction is None else fusion.direction + direction
     return part
-
-
-def _line_kept(bb: Blackboard, fusion: PointFusion, direction: np.ndarray | None) -> bool:
-    """Return False for a frame held out of the point (out of line, not yet a move); restart the point on a move.
-
-    A frame more than ``behaviour.steady_angle_rad`` from the point's direction is out of line. The pointing
-    moved once ``behaviour.moved_frames`` frames in a row are out of line and within that angle of their own
-    mean: the evidence restarts from there. Until then those frames are held out of the fusion, so one frame
-    of a jittery pose (a pose model's wrist thrown onto the elbow, a small arm at range) does not throw away the
-    point's evidence.
-    """
-    c = bb.config
-    if direction is None or fusion.direction is None or not fusion.frames:
-        return True
-    mean = fusion.direction / max(float(np.linalg.norm(fusion.direction)), 1e-9)
-    if angular_spread_rad([mean, direction]) * 2 <= c.steady_angle_rad:
-        fusion.out_of_line = []
-        return True
-    fusion.out_of_line = [*fusion.out_of_line, direction][-c.moved_frames:]
-    if len(fusion.out_of_line) < c.moved_frames or angular_spread_rad(fusion.out_of_line) > c.steady_angle_rad:
-        return False
-    held = fusion.out_of_line[:-1]
-    bb.say(f"pointing moved: fused evidence of {len(fusion.frames)} frames restarted")
-    fusion.reset()
-    bb.weak_lean = None
-    if held:
-        fusion.direction = np.sum(held, axis=0)
-    return True
 
 
 def _neighbours_m(bb: Blackboard, winner: Hypothesis) -> tuple[np.ndarray, np.ndarray]:
