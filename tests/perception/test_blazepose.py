@@ -349,3 +349,18 @@ def test_contrast_retry_finds_a_person_in_murky_water(pose, photos):
     assert found is not None and found.contrast is not None
     mp = np.array(reference["grace_hopper.jpg"]["landmarks_px"])[12, :2]
     assert np.linalg.norm(found.xy_px[12] - mp) < 10.0
+
+
+def test_the_other_wrist_is_reported_at_a_lower_visibility_than_the_head_and_hand():
+    """The other wrist serves only the stop gesture, where BlazePose places it well but calls it hidden behind the
+    pointing hand (``EXTRA_MIN_VISIBILITY``): reported at 0.15, the head and the hand are not."""
+    from dip3d_vehicle.perception.blazepose import EXTRA_MIN_VISIBILITY, _extra
+
+    xy = np.tile([[400.0, 300.0]], (33, 1))
+    xy[15] = [380.0, 150.0]  # the left (other) wrist of a right-arm pointer
+    vis = np.full(33, 0.15)
+    fake = PoseLandmarks(xy, np.zeros(33), vis, np.ones(33), 1.0, Roi((400.0, 300.0), 400.0, 0.0), xy[:2])
+    assert EXTRA_MIN_VISIBILITY["other_wrist"] < 0.15 < EXTRA_MIN_VISIBILITY["head"]
+    assert _extra(fake, "right") == {"other_wrist": (380.0, 150.0)}
+    vis[:] = 0.05
+    assert _extra(fake, "right") == {}
