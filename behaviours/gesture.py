@@ -18,7 +18,7 @@ from dataclasses import dataclass
 
 from dip3d_vehicle.perception.values import ArmKeypoints
 
-__all__ = ["stop_gesture_seen", "StopGestureWatch"]
+__all__ = ["stop_gesture_seen", "metric_margin_px", "StopGestureWatch"]
 
 
 def stop_gesture_seen(arm: ArmKeypoints | None, margin_px: float = 0.0, margin_m: float = 0.0,
