@@ -127,3 +127,28 @@ def test_blazepose_finds_the_diver_in_murky_water_in_a_square_tile_of_the_frame(
     err = np.linalg.norm(rig.to_original(np.asarray(arm.left_px), "left")
                          - np.array([truth[j] for j in ("shoulder", "elbow", "wrist")]), axis=1)
     assert err.max() < 40, err
+
+
+@pytest.mark.parametrize("scenario", ["paper_pool", "murky"])
+def test_blazepose_on_the_rendered_body_shows_the_stop_gesture_and_a_pointing_arm_does_not(tmp_path, scenario):
+    """The onboard backend on the rendered diver's stop gesture (issue 14 session 72): both wrists above the head
+    by the mission's margins (``behaviour.stop_gesture_margin_px`` / ``_m``) in most frames, in clear and murky
+    water (BlazePose calls the other wrist hidden behind the raised hand: ``EXTRA_MIN_VISIBILITY``); the same diver
+    pointing gives no stop frame."""
+    from behaviours.gesture import stop_gesture_seen
+
+    defaults = load_params()
+    margins = (defaults["behaviour.stop_gesture_margin_px"], defaults["behaviour.stop_gesture_margin_m"])
+    path = tmp_path / "stop.yaml"
+    path.write_text(f"base: {scenario}\ndiver:\n  stop_gesture_at_s: 3.0\n")
+    seen = {}
+    for what, t0 in (("stop", 4.0), ("point", 2.0)):
+        sc = load_scenario(str(path), 0)
+        rig = sc.rig()
+        pose = SimPose(sim_params(load_params(overrides={"sitl.pose_source": "blazepose"}), sc))
+        pose.provide(None)
+        with StereoRenderer(sc) as r:
+            frames = [r.render(*sc.initial_vehicle_pose, t0 + 0.25 * k) for k in range(4)]
+        seen[what] = sum(stop_gesture_seen(pose.estimate(*rig.rectify(f.left, f.right), rig), *margins,
+                                           abs(rig.baseline_m)) for f in frames)
+    assert seen["stop"] >= 3 and seen["point"] == 0, seen
