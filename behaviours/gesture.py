@@ -85,9 +85,13 @@ class StopGestureWatch:
     since_s: float | None = None
     last_seen_s: float | None = None
 
+    def shows(self, arm: ArmKeypoints | None) -> bool:
+        """Return True when one frame's pose shows the gesture by this watch's margins (pixels and metres)."""
+        return stop_gesture_seen(arm, self.margin_px, self.margin_m, self.baseline_m)
+
     def update(self, arm: ArmKeypoints | None, stamp_s: float) -> bool:
         """Count one frame's pose (None = no pose); return True once the gesture was held long enough."""
-        if not stop_gesture_seen(arm, self.margin_px, self.margin_m, self.baseline_m):
+        if not self.shows(arm):
             silent = arm is None or not {"head", "other_wrist"} <= set(arm.extra_left_px or {})
             if not silent or self.last_seen_s is None or stamp_s - self.last_seen_s > self.gap_s + 1e-9:
                 self.since_s = self.last_seen_s = None

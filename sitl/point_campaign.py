@@ -93,7 +93,6 @@ def nothing_trial(args: tuple) -> dict:
 
 def stop_trial(args: tuple) -> dict:
     """One stop-gesture trial; see the module doc."""
-    from behaviours.gesture import stop_gesture_seen
     from dip3d_vehicle.perception.keypoints_file import GivenKeypoints
 
     scenario, trial, overrides = args
@@ -108,9 +107,7 @@ def stop_trial(args: tuple) -> dict:
         arm = None
         if truth is not None:
             arm = GivenKeypoints(sim.params["pose.arm"], truth).estimate(None, None, rig)
-        seen.append((float(frame.stamp_s), stop_gesture_seen(arm, float(sim.params["behaviour.stop_gesture_margin_px"]),
-                                                             float(sim.params["behaviour.stop_gesture_margin_m"]),
-                                                             abs(rig.baseline_m))))
+        seen.append((float(frame.stamp_s), sim.mission.stop_watch.shows(arm)))
         in_view.append(truth is not None)
         before(frame)
 
