@@ -4,7 +4,7 @@ log = json.load(open(sys.argv[1]))
 thr = 0.1
 def run(rule, k=2):
     mean = None; n = 0; restarts = 0; runs = []; pending = []
-    for t, a, L, src in log:
+    for t, a, L, src, *_ in log:
         if a is None: continue
         d = np.array([math.cos(a), math.sin(a)])
         if mean is None:
