@@ -1,5 +1,5 @@
 """Other-wrist visibility in stop-gesture frames and false 'stop seen' in ordinary frames, BlazePose from pixels (scratch)."""
-import sys, math, numpy as np
+import sys, numpy as np
 from dataclasses import replace
 from dip3d_vehicle.config import load_params
 from dip3d_vehicle.perception.blazepose import BlazePoseEstimator, ARM_INDICES
