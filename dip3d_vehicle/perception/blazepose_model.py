@@ -34,6 +34,7 @@ _AUX = (33, 34)                 # auxiliary landmarks: hip centre and scale poin
 _HEATMAP_KERNEL = 7             # RefineLandmarksFromHeatmapCalculator kernel_size
 _HEATMAP_MIN_CONF = 0.5         # ... min_confidence_to_refine
 _STRETCH_PERCENT = (1.0, 99.0)  # contrast retry: per-channel percentile stretch
+_CROP_BORDER = 32               # crop stretch: levels read inside this margin of the 256 px crop (its replicated border)
 SQUARE_TILES = 3
 """Square tiles of the frame's shorter side searched by the detector's last retry (``detect_in_squares``)."""
 Contrast = tuple[np.ndarray, np.ndarray]
@@ -170,6 +171,17 @@ def _to_unit_rgb(crop: np.ndarray, bgr: bool, contrast: Contrast | None) -> np.n
     return np.ascontiguousarray(x[None])
 
 
+def _crop_levels(crop: np.ndarray) -> Contrast:
+    """Return per-channel 1-99 % levels of a landmark crop's inner part (a histogram per channel; uint8 crop)."""
+    inner = crop[_CROP_BORDER:-_CROP_BORDER, _CROP_BORDER:-_CROP_BORDER]
+    channels = inner.shape[2] if inner.ndim == 3 else 1
+    lo, hi = np.empty(channels, np.float32), np.empty(channels, np.float32)
+    for c in range(channels):
+        cum = cv2.calcHist([inner], [c], None, [256], [0, 256]).ravel().cumsum()
+        lo[c], hi[c] = np.searchsorted(cum, cum[-1] * np.asarray(_STRETCH_PERCENT) / 100.0)
+    return lo, np.maximum(hi, lo + 16.0)
+
+
 def _contrast_of(crop: np.ndarray, region: tuple[int, int, int, int]) -> Contrast:
     """Return per-channel percentile levels of ``crop[y0:y1, x0:x1]`` for a contrast stretch."""
     x0, y0, x1, y1 = region
@@ -186,11 +198,12 @@ class BlazePose:
 
     def __init__(self, threads: int = 1, spin_wait: bool = False, min_detection_score: float = 0.5,
                  min_pose_flag: float = 0.5, contrast_retry: bool = True,
-                 models_dir: str | Path | None = None) -> None:
+                 models_dir: str | Path | None = None, crop_stretch: bool = False) -> None:
         """Load and verify both models; ``threads`` is onnxruntime's intra-op thread count."""
         self.min_detection_score = float(min_detection_score)
         self.min_pose_flag = float(min_pose_flag)
         self.contrast_retry = bool(contrast_retry)
+        self.crop_stretch = bool(crop_stretch)
         self._detector = _session(model_path("pose_detection", models_dir), threads, spin_wait)
         self._landmarker = _session(model_path("pose_landmark_full", models_dir), threads, spin_wait)
         self.detector_calls = 0
@@ -202,7 +215,8 @@ class BlazePose:
         return cls(threads=params["blazepose.threads"], spin_wait=params["blazepose.spin_wait"],
                    min_detection_score=params["blazepose.min_detection_score"],
                    min_pose_flag=params["blazepose.min_pose_flag"],
-                   contrast_retry=params["blazepose.contrast_retry"])
+                   contrast_retry=params["blazepose.contrast_retry"],
+                   crop_stretch=params["blazepose.crop_stretch"])
 
     # -- detector -------------------------------------------------------------------------
     def detect(self, image: np.ndarray, bgr: bool = True, contrast: Contrast | bool | None = None
@@ -260,12 +274,16 @@ class BlazePose:
     # -- landmarks ------------------------------------------------------------------------
     def landmarks(self, image: np.ndarray, roi: Roi, bgr: bool = True,
                   contrast: Contrast | None = None, detected: bool = False) -> PoseLandmarks:
-        """Run the landmark model in ``roi`` and return its landmarks (whatever the pose flag)."""
+        """Run the landmark model in ``roi`` and return its landmarks (whatever the pose flag).
+
+        ``contrast``: the stretch to apply; without one, ``crop_stretch`` stretches the crop to its own levels.
+        """
         to_image = crop_matrix(roi, LANDMARK_SIZE)
         crop = warp(image, to_image, LANDMARK_SIZE, cv2.BORDER_REPLICATE)
+        levels = _crop_levels(crop) if contrast is None and self.crop_stretch else contrast
         self.landmark_calls += 1
         raw, flag, heat = self._landmarker.run(["Identity", "Identity_1", "Identity_3"],
-                                               {"input_1": _to_unit_rgb(crop, bgr, contrast)})
+                                               {"input_1": _to_unit_rgb(crop, bgr, levels)})
         raw = raw.reshape(_ALL_LANDMARKS, 5).astype(np.float64)
         xy = refine_from_heatmap(raw[:, :2] / LANDMARK_SIZE, heat[0]) * LANDMARK_SIZE
         xy_px = xy @ to_image[:, :2].T + to_image[:, 2]
