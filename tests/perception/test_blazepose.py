@@ -364,3 +364,35 @@ def test_the_other_wrist_is_reported_at_a_lower_visibility_than_the_head_and_han
     assert _extra(fake, "right") == {"other_wrist": (380.0, 150.0)}
     vis[:] = 0.05
     assert _extra(fake, "right") == {}
+
+
+def test_crop_levels_are_each_channels_1_and_99_percent_inside_the_crops_border():
+    """``blazepose.crop_stretch``: the levels come from the crop's inner part (its border is the image's edge
+    replicated) and are at least 16 grey levels apart."""
+    from dip3d_vehicle.perception.blazepose_model import _crop_levels
+
+    crop = np.zeros((256, 256, 3), np.uint8)
+    crop[32:224, 32:224, 0] = np.tile(np.arange(192, dtype=np.uint8)[None], (192, 1))   # 0..191 evenly
+    crop[32:224, 32:224, 1] = 100                                                        # flat
+    crop[:, :, 2] = 255
+    crop[32:224, 32:224, 2] = np.tile((np.arange(192) % 2 * 50 + 50).astype(np.uint8)[:, None], (1, 192))
+    lo, hi = _crop_levels(crop)
+    assert lo.tolist() == [1.0, 100.0, 50.0] and hi.tolist() == [190.0, 116.0, 100.0]
+
+
+def test_the_crop_stretch_acts_only_without_a_given_stretch(pose, monkeypatch):
+    """The landmark model sees the crop stretched to its own levels only when ``crop_stretch`` is on and no
+    contrast stretch is given; MediaPipe's graph (the constructor's default) never stretches."""
+    from dip3d_vehicle.perception import blazepose_model as bm
+
+    seen = []
+    monkeypatch.setattr(bm, "_to_unit_rgb", lambda crop, bgr, contrast: seen.append(contrast) or
+                        np.zeros((1, 256, 256, 3), np.float32))
+    image = np.full((300, 300, 3), 90, np.uint8)
+    roi = Roi((150.0, 150.0), 200.0, 0.0)
+    given = (np.zeros(3, np.float32), np.full(3, 200.0, np.float32))
+    stretching = BlazePose(crop_stretch=True)
+    for model, contrast in ((pose, None), (stretching, given), (stretching, None)):
+        model.landmarks(image, roi, contrast=contrast)
+    assert seen[0] is None and seen[1] is given and seen[2] is not None and seen[2] is not given
+    assert BlazePose.from_params(load_params()).crop_stretch == load_params()["blazepose.crop_stretch"]
