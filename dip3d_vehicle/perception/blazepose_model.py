@@ -34,6 +34,7 @@ _AUX = (33, 34)                 # auxiliary landmarks: hip centre and scale poin
 _HEATMAP_KERNEL = 7             # RefineLandmarksFromHeatmapCalculator kernel_size
 _HEATMAP_MIN_CONF = 0.5         # ... min_confidence_to_refine
 _STRETCH_PERCENT = (1.0, 99.0)  # contrast retry: per-channel percentile stretch
+_CLAHE = cv2.createCLAHE(2.0, (8, 8))  # local-contrast retry (detect_in_squares(local=True))
 _CROP_BORDER = 32               # crop stretch: levels read inside this margin of the 256 px crop (its replicated border)
 SQUARE_TILES = 3
 """Square tiles of the frame's shorter side searched by the detector's last retry (``detect_in_squares``)."""
@@ -182,6 +183,15 @@ def _crop_levels(crop: np.ndarray) -> Contrast:
     return lo, np.maximum(hi, lo + 16.0)
 
 
+def local_contrast(image: np.ndarray, bgr: bool = True) -> np.ndarray:
+    """Return a uint8 colour image with its lightness equalised locally (CLAHE, clip 2, 8 x 8 tiles; colour kept)."""
+    if image.ndim == 2:
+        return _CLAHE.apply(image)
+    lab = cv2.cvtColor(image, cv2.COLOR_BGR2LAB if bgr else cv2.COLOR_RGB2LAB)
+    lab[:, :, 0] = _CLAHE.apply(lab[:, :, 0])
+    return cv2.cvtColor(lab, cv2.COLOR_LAB2BGR if bgr else cv2.COLOR_LAB2RGB)
+
+
 def _contrast_of(crop: np.ndarray, region: tuple[int, int, int, int]) -> Contrast:
     """Return per-channel percentile levels of ``crop[y0:y1, x0:x1]`` for a contrast stretch."""
     x0, y0, x1, y1 = region
@@ -199,13 +209,14 @@ class BlazePose:
     def __init__(self, threads: int = 1, spin_wait: bool = False, min_detection_score: float = 0.5,
                  min_pose_flag: float = 0.5, contrast_retry: bool = True,
                  models_dir: str | Path | None = None, crop_stretch: bool = False,
-                 reject_retry: bool = False) -> None:
+                 reject_retry: bool = False, local_retry: bool = False) -> None:
         """Load and verify both models; ``threads`` is onnxruntime's intra-op thread count."""
         self.min_detection_score = float(min_detection_score)
         self.min_pose_flag = float(min_pose_flag)
         self.contrast_retry = bool(contrast_retry)
         self.crop_stretch = bool(crop_stretch)
         self.reject_retry = bool(reject_retry)
+        self.local_retry = bool(local_retry)
         self._detector = _session(model_path("pose_detection", models_dir), threads, spin_wait)
         self._landmarker = _session(model_path("pose_landmark_full", models_dir), threads, spin_wait)
         self.detector_calls = 0
@@ -218,7 +229,8 @@ class BlazePose:
                    min_detection_score=params["blazepose.min_detection_score"],
                    min_pose_flag=params["blazepose.min_pose_flag"],
                    contrast_retry=params["blazepose.contrast_retry"],
-                   crop_stretch=params["blazepose.crop_stretch"], reject_retry=params["blazepose.reject_retry"])
+                   crop_stretch=params["blazepose.crop_stretch"], reject_retry=params["blazepose.reject_retry"],
+                   local_retry=params["blazepose.local_retry"])
 
     # -- detector -------------------------------------------------------------------------
     def detect(self, image: np.ndarray, bgr: bool = True, contrast: Contrast | bool | None = None
@@ -245,13 +257,15 @@ class BlazePose:
         kps = (best.keypoints * DETECTOR_SIZE - offset) / scale
         return Detection(best.score, box.ravel(), kps, contrast or None)
 
-    def detect_in_squares(self, image: np.ndarray, bgr: bool = True) -> Detection | None:
+    def detect_in_squares(self, image: np.ndarray, bgr: bool = True, local: bool = False) -> Detection | None:
         """Return the best contrast-stretched detection in square tiles of the image (image pixels), or None.
 
         The last retry of an empty frame: in murky water the whole frame, letterboxed and stretched,
         scores a diver at 3 m under 0.03, the same diver in a square tile of the frame's height
         0.8-0.9 (no letterbox bars, the stretch read from the tile). Tiles: ``SQUARE_TILES`` squares of
-        the shorter side, spread evenly along the longer one.
+        the shorter side, spread evenly along the longer one. ``local``: each tile's lightness is first
+        equalised locally (``local_contrast``): a grey diver in green murky water at 3.4 m, seen in profile,
+        scores 0.05-0.18 stretched and 0.8-0.94 so (issue 14 session 73, ``variant_44_17``).
         """
         h, w = image.shape[:2]
         side = min(h, w)
@@ -260,7 +274,8 @@ class BlazePose:
         best: Detection | None = None
         for start in np.linspace(0, max(h, w) - side, SQUARE_TILES).round().astype(int):
             x0, y0 = (int(start), 0) if w > h else (0, int(start))
-            det = self.detect(np.ascontiguousarray(image[y0:y0 + side, x0:x0 + side]), bgr, contrast=True)
+            tile = np.ascontiguousarray(image[y0:y0 + side, x0:x0 + side])
+            det = self.detect(local_contrast(tile, bgr) if local else tile, bgr, contrast=True)
             if det is not None and (best is None or det.score > best.score):
                 shift = np.array([x0, y0], np.float64)
                 best = replace(det, box_px=det.box_px + np.tile(shift, 2), keypoints_px=det.keypoints_px + shift)
@@ -318,10 +333,13 @@ class BlazePose:
 
     def _detections(self, image: np.ndarray, bgr: bool) -> Iterator[Detection]:
         """Yield the detector's passes that find someone, in order: the image as is, then (``contrast_retry``)
-        contrast-stretched, then its square tiles stretched; each pass runs only when asked for."""
+        contrast-stretched, then its square tiles stretched, then (``local_retry``) the tiles locally equalised;
+        each pass runs only when asked for."""
         passes = [lambda: self.detect(image, bgr)]
         if self.contrast_retry:
             passes += [lambda: self.detect(image, bgr, contrast=True), lambda: self.detect_in_squares(image, bgr)]
+        if self.contrast_retry and self.local_retry:
+            passes.append(lambda: self.detect_in_squares(image, bgr, local=True))
         for run in passes:
             det = run()
             if det is not None:
