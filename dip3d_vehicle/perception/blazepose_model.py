@@ -11,7 +11,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, replace
 from pathlib import Path
-from typing import Any, Iterator, Mapping
+from typing import Any, Mapping
 
 import cv2
 import numpy as np
@@ -209,13 +209,12 @@ class BlazePose:
     def __init__(self, threads: int = 1, spin_wait: bool = False, min_detection_score: float = 0.5,
                  min_pose_flag: float = 0.5, contrast_retry: bool = True,
                  models_dir: str | Path | None = None, crop_stretch: bool = False,
-                 reject_retry: bool = False, local_retry: bool = False) -> None:
+                 local_retry: bool = False) -> None:
         """Load and verify both models; ``threads`` is onnxruntime's intra-op thread count."""
         self.min_detection_score = float(min_detection_score)
         self.min_pose_flag = float(min_pose_flag)
         self.contrast_retry = bool(contrast_retry)
         self.crop_stretch = bool(crop_stretch)
-        self.reject_retry = bool(reject_retry)
         self.local_retry = bool(local_retry)
         self._detector = _session(model_path("pose_detection", models_dir), threads, spin_wait)
         self._landmarker = _session(model_path("pose_landmark_full", models_dir), threads, spin_wait)
@@ -229,8 +228,7 @@ class BlazePose:
                    min_detection_score=params["blazepose.min_detection_score"],
                    min_pose_flag=params["blazepose.min_pose_flag"],
                    contrast_retry=params["blazepose.contrast_retry"],
-                   crop_stretch=params["blazepose.crop_stretch"], reject_retry=params["blazepose.reject_retry"],
-                   local_retry=params["blazepose.local_retry"])
+                   crop_stretch=params["blazepose.crop_stretch"], local_retry=params["blazepose.local_retry"])
 
     # -- detector -------------------------------------------------------------------------
     def detect(self, image: np.ndarray, bgr: bool = True, contrast: Contrast | bool | None = None
@@ -318,36 +316,20 @@ class BlazePose:
 
         Args:
             image: HxWx3 uint8 (BGR unless ``bgr`` is False) or HxW grey.
-            roi: where to look (tracking); None runs the detector first (with a contrast-stretched
-                retry when it finds nothing and ``contrast_retry`` is on; with ``reject_retry`` also when
-                the landmark model's pose flag rejects the ROI the detection gave).
+            roi: where to look (tracking); None runs the detector first (with contrast-stretched
+                retries when it finds nothing and ``contrast_retry`` is on: the whole image, its square
+                tiles, then with ``local_retry`` the tiles locally equalised).
             contrast: stretch to apply in ``roi`` (from a previous frame's result).
         """
-        if roi is not None:
-            return self._accepted(image, roi, bgr, contrast, False)
-        for det in self._detections(image, bgr):
-            found = self._accepted(image, det.roi(), bgr, det.contrast, True)
-            if found is not None or not self.reject_retry:
-                return found
-        return None
-
-    def _detections(self, image: np.ndarray, bgr: bool) -> Iterator[Detection]:
-        """Yield the detector's passes that find someone, in order: the image as is, then (``contrast_retry``)
-        contrast-stretched, then its square tiles stretched, then (``local_retry``) the tiles locally equalised;
-        each pass runs only when asked for."""
-        passes = [lambda: self.detect(image, bgr)]
-        if self.contrast_retry:
-            passes += [lambda: self.detect(image, bgr, contrast=True), lambda: self.detect_in_squares(image, bgr)]
-        if self.contrast_retry and self.local_retry:
-            passes.append(lambda: self.detect_in_squares(image, bgr, local=True))
-        for run in passes:
-            det = run()
-            if det is not None:
-                yield det
-
-    def _accepted(self, image: np.ndarray, roi: Roi, bgr: bool, contrast: Contrast | None,
-                  detected: bool) -> PoseLandmarks | None:
-        """Return the landmarks in ``roi`` when the model's pose flag accepts them, else None."""
+        detected = roi is None
+        if roi is None:
+            det = self.detect(image, bgr)
+            if det is None and self.contrast_retry:
+                det = (self.detect(image, bgr, contrast=True) or self.detect_in_squares(image, bgr)
+                       or (self.detect_in_squares(image, bgr, local=True) if self.local_retry else None))
+            if det is None:
+                return None
+            roi, contrast = det.roi(), det.contrast
         if roi.size_px < 1.0:
             return None
         found = self.landmarks(image, roi, bgr, contrast, detected)
