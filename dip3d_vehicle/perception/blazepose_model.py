@@ -34,7 +34,7 @@ _AUX = (33, 34)                 # auxiliary landmarks: hip centre and scale poin
 _HEATMAP_KERNEL = 7             # RefineLandmarksFromHeatmapCalculator kernel_size
 _HEATMAP_MIN_CONF = 0.5         # ... min_confidence_to_refine
 _STRETCH_PERCENT = (1.0, 99.0)  # contrast retry: per-channel percentile stretch
-_CLAHE = cv2.createCLAHE(2.0, (8, 8))  # local-contrast retry (detect_in_squares(local=True))
+_CLAHE = (2.0, (8, 8))          # local-contrast retry (detect_in_squares(local=True)): CLAHE clip limit, tile grid
 _CROP_BORDER = 32               # crop stretch: levels read inside this margin of the 256 px crop (its replicated border)
 SQUARE_TILES = 3
 """Square tiles of the frame's shorter side searched by the detector's last retry (``detect_in_squares``)."""
@@ -183,12 +183,16 @@ def _crop_levels(crop: np.ndarray) -> Contrast:
     return lo, np.maximum(hi, lo + 16.0)
 
 
-def local_contrast(image: np.ndarray, bgr: bool = True) -> np.ndarray:
-    """Return a uint8 colour image with its lightness equalised locally (CLAHE, clip 2, 8 x 8 tiles; colour kept)."""
+def _local_contrast(image: np.ndarray, bgr: bool = True) -> np.ndarray:
+    """Return a uint8 colour image with its lightness equalised locally (CLAHE, clip 2, 8 x 8 tiles; colour kept).
+
+    A CLAHE object per call: the two eyes may run in two threads, and OpenCV's keeps buffers between calls.
+    """
+    clahe = cv2.createCLAHE(*_CLAHE)
     if image.ndim == 2:
-        return _CLAHE.apply(image)
+        return clahe.apply(image)
     lab = cv2.cvtColor(image, cv2.COLOR_BGR2LAB if bgr else cv2.COLOR_RGB2LAB)
-    lab[:, :, 0] = _CLAHE.apply(lab[:, :, 0])
+    lab[:, :, 0] = clahe.apply(lab[:, :, 0])
     return cv2.cvtColor(lab, cv2.COLOR_LAB2BGR if bgr else cv2.COLOR_LAB2RGB)
 
 
@@ -262,7 +266,7 @@ class BlazePose:
         scores a diver at 3 m under 0.03, the same diver in a square tile of the frame's height
         0.8-0.9 (no letterbox bars, the stretch read from the tile). Tiles: ``SQUARE_TILES`` squares of
         the shorter side, spread evenly along the longer one. ``local``: each tile's lightness is first
-        equalised locally (``local_contrast``): a grey diver in green murky water at 3.4 m, seen in profile,
+        equalised locally (``_local_contrast``): a grey diver in green murky water at 3.4 m, seen in profile,
         scores 0.05-0.18 stretched and 0.8-0.94 so (issue 14 session 73, ``variant_44_17``).
         """
         h, w = image.shape[:2]
@@ -273,7 +277,7 @@ class BlazePose:
         for start in np.linspace(0, max(h, w) - side, SQUARE_TILES).round().astype(int):
             x0, y0 = (int(start), 0) if w > h else (0, int(start))
             tile = np.ascontiguousarray(image[y0:y0 + side, x0:x0 + side])
-            det = self.detect(local_contrast(tile, bgr) if local else tile, bgr, contrast=True)
+            det = self.detect(_local_contrast(tile, bgr) if local else tile, bgr, contrast=True)
             if det is not None and (best is None or det.score > best.score):
                 shift = np.array([x0, y0], np.float64)
                 best = replace(det, box_px=det.box_px + np.tile(shift, 2), keypoints_px=det.keypoints_px + shift)
