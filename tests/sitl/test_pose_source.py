@@ -201,8 +201,10 @@ diver:
 """
 """variant_44_17 (sitl.variants, seed 44): a grey diver in profile 3.4 m away in green murky water."""
 
+
 def _left_frame(tmp_path, text: str, t_s: float):
-    """Return (scenario, rectified left image, the pointing arm's true left pixels (3, 2)) of a scenario text."""
+    """Return (scenario, rectified left image, the pointing arm's true rectified left pixels (3, 2)) of a scenario
+    text's frame at ``t_s`` seconds."""
     path = tmp_path / "layout.yaml"
     path.write_text(text)
     sc = load_scenario(str(path), 0)
@@ -210,7 +212,7 @@ def _left_frame(tmp_path, text: str, t_s: float):
     with StereoRenderer(sc) as r:
         frame = r.render(*sc.initial_vehicle_pose, t_s)
     truth = np.array([frame.meta["keypoints_truth"]["left"][j] for j in ("shoulder", "elbow", "wrist")])
-    return sc, rig, rig.rectify(frame.left, frame.right)[0], rig.to_rectified(truth, "left")
+    return sc, rig.rectify(frame.left, frame.right)[0], rig.to_rectified(truth, "left")
 
 
 def test_a_diver_the_stretched_tiles_miss_in_murky_water_is_found_in_the_locally_equalised_ones(tmp_path):
@@ -219,7 +221,7 @@ def test_a_diver_the_stretched_tiles_miss_in_murky_water_is_found_in_the_locally
     the detector finds the body and the landmarks put the pointing arm near the joints (issue 14 session 73)."""
     from dip3d_vehicle.perception.blazepose_model import BlazePose
 
-    sc, _, left, truth = _left_frame(tmp_path, _PROFILE_IN_MURKY_WATER, 2.0)
+    sc, left, truth = _left_frame(tmp_path, _PROFILE_IN_MURKY_WATER, 2.0)
     plain, local = BlazePose(), BlazePose(local_retry=True)
     assert plain.process(left) is None
     found = local.detect_in_squares(left, local=True)
@@ -228,4 +230,3 @@ def test_a_diver_the_stretched_tiles_miss_in_murky_water_is_found_in_the_locally
     assert pose is not None
     arm, visibility = pose.arm(sc.diver.arm)
     assert visibility.min() > 0.5 and np.linalg.norm(arm - truth, axis=1).max() < 30, (arm, truth)
-
