@@ -34,6 +34,7 @@ _AUX = (33, 34)                 # auxiliary landmarks: hip centre and scale poin
 _HEATMAP_KERNEL = 7             # RefineLandmarksFromHeatmapCalculator kernel_size
 _HEATMAP_MIN_CONF = 0.5         # ... min_confidence_to_refine
 _STRETCH_PERCENT = (1.0, 99.0)  # contrast retry: per-channel percentile stretch
+_STRETCH_MIN_SPAN = 16.0        # ... levels at least this far apart: a flat channel gains at most 255 / 16
 _CLAHE = (2.0, (8, 8))          # local-contrast retry (detect_in_squares(local=True)): CLAHE clip limit, tile grid
 _CROP_BORDER = 32               # crop stretch: levels read inside this margin of the 256 px crop (its replicated border)
 SQUARE_TILES = 3
@@ -181,7 +182,7 @@ def _crop_levels(crop: np.ndarray) -> Contrast:
     for c in range(channels):
         cum = cv2.calcHist([inner], [c], None, [256], [0, 256]).ravel().cumsum()
         lo[c], hi[c] = np.searchsorted(cum, cum[-1] * np.asarray(_STRETCH_PERCENT) / 100.0)
-    return lo, np.maximum(hi, lo + 16.0)
+    return lo, np.maximum(hi, lo + _STRETCH_MIN_SPAN)
 
 
 def _local_contrast(image: np.ndarray, bgr: bool = True) -> np.ndarray:
@@ -202,7 +203,7 @@ def _contrast_of(crop: np.ndarray, region: tuple[int, int, int, int]) -> Contras
     x0, y0, x1, y1 = region
     pixels = crop[y0:y1, x0:x1].reshape(-1, crop.shape[2] if crop.ndim == 3 else 1).astype(np.float32)
     lo, hi = np.percentile(pixels, _STRETCH_PERCENT, axis=0)
-    return lo.astype(np.float32), np.maximum(hi, lo + 16.0).astype(np.float32)
+    return lo.astype(np.float32), np.maximum(hi, lo + _STRETCH_MIN_SPAN).astype(np.float32)
 
 
 class BlazePose:
